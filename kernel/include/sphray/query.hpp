@@ -1,0 +1,43 @@
+// The queries: closest hit, any hit, a stream of closest hits, and the surface at a hit.
+//
+// Contract (all instruction sets and the scalar reference alike):
+// - Sphere i is hit at t when tmin < t < tmax. Of its two roots the near one is taken when it
+//   lies in that interval, else the far one: a ray starting inside a sphere hits its far side.
+// - intersect returns the smallest such t over all spheres and that sphere's id; equal t from
+//   two spheres: the lower id. On a miss, id == kNoHit and t == ray.tmax.
+// - A sphere with radius <= 0 or any NaN or infinite field is never hit. A ray with a NaN or
+//   infinite origin or direction component, a zero direction (or one whose squared length
+//   overflows or underflows float), a NaN bound, or !(tmin < tmax) misses everything.
+// - Queries never allocate, lock, throw (but for the stream size check) or touch mutable
+//   global state: any number of threads may query the same spheres at once.
+#pragma once
+
+#include <span>
+
+#include "sphray/ray.hpp"
+#include "sphray/spheres.hpp"
+
+namespace sphray {
+
+/// Closest hit of ray among spheres, on the instruction set active_isa() names.
+Hit intersect(SphereView spheres, const Ray& ray);
+
+/// True if any sphere is hit in (tmin, tmax); returns at the first hit found.
+bool occluded(SphereView spheres, const Ray& ray);
+
+/// hits[i] = intersect(spheres, rays[i]). Throws std::length_error unless
+/// hits.size() == rays.size().
+void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hits);
+
+/// The surface where hit meets ray: the point re-projected onto the sphere and the outward
+/// unit normal. For a miss (!hit.found()) or an id outside the view: point = ray.at(hit.t),
+/// normal = {0, 0, 0}, front_face = false.
+Surface surface(SphereView spheres, const Ray& ray, const Hit& hit);
+
+/// The reference implementation: the same contract in plain C++, one sphere at a time.
+namespace scalar {
+Hit intersect(SphereView spheres, const Ray& ray);
+bool occluded(SphereView spheres, const Ray& ray);
+}  // namespace scalar
+
+}  // namespace sphray

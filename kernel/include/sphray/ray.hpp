@@ -1,0 +1,44 @@
+// Ray, Hit and Surface: what goes into a query and what comes out of it.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "sphray/vec3.hpp"
+
+namespace sphray {
+
+/// The points origin + t * dir for tmin < t < tmax (an open interval). dir need not be unit
+/// length: t is measured in units of dir. A ray with a NaN or infinite origin or direction
+/// component, a zero direction, a NaN tmin or tmax, or !(tmin < tmax) misses everything.
+struct Ray {
+  Vec3 origin;
+  Vec3 dir;
+  float tmin = 0.0f;
+  float tmax = INFINITY;
+
+  constexpr Vec3 at(float t) const { return origin + t * dir; }
+};
+
+/// The id a miss reports.
+inline constexpr std::uint32_t kNoHit = 0xffffffffu;
+
+/// Result of a closest-hit query: on a hit, the sphere's id and the ray parameter t; on a
+/// miss, id == kNoHit and t == ray.tmax.
+struct Hit {
+  float t;
+  std::uint32_t id;
+
+  constexpr bool found() const { return id != kNoHit; }
+};
+
+/// Where a ray meets a sphere: the point lies on the sphere (re-projected from the ray's t),
+/// the normal is the sphere's outward unit normal there, and front_face says whether the ray
+/// arrived from outside (dot(dir, normal) < 0).
+struct Surface {
+  Vec3 point;
+  Vec3 normal;
+  bool front_face;
+};
+
+}  // namespace sphray

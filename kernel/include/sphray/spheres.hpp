@@ -1,0 +1,76 @@
+// Sphere storage: SphereView reads any structure-of-arrays; SphereSoA owns aligned, padded
+// arrays whose views the kernel can read in whole SIMD batches.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+#include "sphray/vec3.hpp"
+
+namespace sphray {
+
+/// A non-owning structure-of-arrays view of spheres: sphere i has centre (cx[i], cy[i], cz[i])
+/// and radius radius[i], and id i. Any alignment, any count.
+///
+/// padded_count is an optional promise: entries [count, padded_count) of the four arrays are
+/// readable and hold spheres that are never hit (radius <= 0). The kernel then reads whole
+/// batches up to padded_count instead of copying a partial last batch. Leave it 0 if unsure.
+struct SphereView {
+  const float* cx;
+  const float* cy;
+  const float* cz;
+  const float* radius;
+  std::size_t count;
+  std::size_t padded_count = 0;
+};
+
+/// Owning structure-of-arrays sphere storage. Each array starts on a kAlignment-byte boundary
+/// and is padded with never-hit spheres to a multiple of kPadding, the widest SIMD batch, so
+/// the kernel never handles a partial batch on its views. Ids are insertion indices.
+class SphereSoA {
+ public:
+  static constexpr std::size_t kAlignment = 64;
+  static constexpr std::size_t kPadding = 16;
+
+  SphereSoA() = default;
+  SphereSoA(const SphereSoA& other);
+  SphereSoA& operator=(const SphereSoA& other);
+  SphereSoA(SphereSoA&&) noexcept = default;
+  SphereSoA& operator=(SphereSoA&&) noexcept = default;
+  ~SphereSoA() = default;
+
+  /// Appends a sphere and returns its id. Throws std::length_error past 2^32 - 1 spheres.
+  std::uint32_t add(Vec3 center, float radius);
+  /// Replaces sphere id. Throws std::out_of_range if id >= size().
+  void set(std::uint32_t id, Vec3 center, float radius);
+
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  std::size_t capacity() const { return capacity_; }
+  void reserve(std::size_t n);
+  void clear();
+
+  Vec3 center(std::uint32_t id) const { return {x(id), y(id), z(id)}; }
+  float radius(std::uint32_t id) const { return array(3)[id]; }
+
+  SphereView view() const;
+
+ private:
+  float x(std::size_t i) const { return array(0)[i]; }
+  float y(std::size_t i) const { return array(1)[i]; }
+  float z(std::size_t i) const { return array(2)[i]; }
+  float* array(int k) const { return data_.get() + k * capacity_; }
+  void reallocate(std::size_t capacity);
+
+  struct AlignedDelete {
+    void operator()(float* p) const;
+  };
+  // One allocation holds the four arrays back to back (cx, cy, cz, radius), each capacity_
+  // long; capacity_ is a multiple of kPadding, so every array stays aligned.
+  std::unique_ptr<float[], AlignedDelete> data_;
+  std::size_t size_ = 0;
+  std::size_t capacity_ = 0;
+};
+
+}  // namespace sphray

@@ -1,0 +1,9 @@
+// sphray: fast, exact ray/sphere intersection. This header includes the whole public contract.
+#pragma once
+
+#include "sphray/isa.hpp"
+#include "sphray/query.hpp"
+#include "sphray/ray.hpp"
+#include "sphray/spheres.hpp"
+#include "sphray/vec3.hpp"
+#include "sphray/version.hpp"

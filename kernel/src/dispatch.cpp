@@ -1,0 +1,146 @@
+// Run-time choice of the instruction set: the table of kernels this build has, filtered by what
+// the CPU and OS support, and SPHRAY_ISA.
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "cpu.hpp"
+#include "kernel_table.hpp"
+#include "sphray/isa.hpp"
+
+namespace sphray {
+namespace {
+
+constexpr std::array<std::string_view, 5> kNames = {"scalar", "sse4.2", "avx2", "avx512", "neon"};
+
+// Every kernel this build has, best first.
+constexpr std::array kBuilt = {
+#if SPHRAY_HAS_AVX512
+    &detail::kAvx512Kernel,
+#endif
+#if SPHRAY_HAS_AVX2
+    &detail::kAvx2Kernel,
+#endif
+#if SPHRAY_HAS_SSE4_2
+    &detail::kSse42Kernel,
+#endif
+#if SPHRAY_HAS_NEON
+    &detail::kNeonKernel,
+#endif
+    &detail::kScalarKernel,
+};
+
+bool cpu_runs(Isa isa, const detail::CpuFeatures& cpu) {
+  switch (isa) {
+    case Isa::scalar:
+      return true;
+    case Isa::sse4_2:
+      return cpu.sse4_2;
+    case Isa::avx2:
+      return cpu.avx2_fma;
+    case Isa::avx512:
+      return cpu.avx512f;
+    case Isa::neon:
+      return cpu.neon;
+  }
+  return false;
+}
+
+// The supported kernels, best first; computed once. Immutable afterwards, so concurrent reads
+// need no lock (and C++ makes the initialisation itself thread-safe).
+struct Supported {
+  std::array<Isa, kBuilt.size()> isas{};
+  std::array<const Kernel*, kBuilt.size()> kernels{};
+  std::size_t count = 0;
+
+  Supported() {
+    const detail::CpuFeatures cpu = detail::detect_cpu();
+    for (const Kernel* k : kBuilt) {
+      if (!cpu_runs(k->isa, cpu)) continue;
+      isas[count] = k->isa;
+      kernels[count++] = k;
+    }
+  }
+};
+
+const Supported& supported() {
+  static const Supported s;
+  return s;
+}
+
+const Kernel& chosen_kernel() {
+  static const Kernel& kernel = [] {
+    const IsaChoice choice = choose_isa(std::getenv("SPHRAY_ISA"));
+    if (!choice.message.empty()) std::fprintf(stderr, "%s\n", choice.message.c_str());
+    return *find_kernel(choice.isa);
+  }();
+  return kernel;
+}
+
+}  // namespace
+
+std::string_view isa_name(Isa isa) {
+  return kNames.at(static_cast<std::size_t>(isa));
+}
+
+std::optional<Isa> parse_isa(std::string_view name) {
+  for (std::size_t i = 0; i < kNames.size(); ++i)
+    if (kNames[i] == name) return static_cast<Isa>(i);
+  return std::nullopt;
+}
+
+std::size_t isa_width(Isa isa) {
+  switch (isa) {
+    case Isa::scalar:
+      return 1;
+    case Isa::sse4_2:
+      return 4;
+    case Isa::avx2:
+      return 8;
+    case Isa::avx512:
+      return 16;
+    case Isa::neon:
+      return 4;
+  }
+  return 1;
+}
+
+const Kernel* find_kernel(Isa isa) {
+  const Supported& s = supported();
+  for (std::size_t i = 0; i < s.count; ++i)
+    if (s.isas[i] == isa) return s.kernels[i];
+  return nullptr;
+}
+
+std::span<const Isa> supported_isas() {
+  const Supported& s = supported();
+  return {s.isas.data(), s.count};
+}
+
+IsaChoice choose_isa(const char* requested) {
+  const Isa best = supported_isas().front();
+  if (requested == nullptr || *requested == '\0') return {best, {}};
+  const std::string best_name(isa_name(best));
+  const std::optional<Isa> isa = parse_isa(requested);
+  if (!isa) {
+    return {best, "sphray: SPHRAY_ISA=" + std::string(requested) +
+                      " is not one of scalar, sse4.2, avx2, avx512, neon; using " + best_name};
+  }
+  if (find_kernel(*isa) == nullptr) {
+    return {best, "sphray: SPHRAY_ISA=" + std::string(requested) +
+                      " cannot run here (not built for this CPU family, or the CPU or OS lacks "
+                      "it); using " +
+                      best_name};
+  }
+  return {*isa, {}};
+}
+
+Isa active_isa() {
+  return chosen_kernel().isa;
+}
+const Kernel& active_kernel() {
+  return chosen_kernel();
+}
+
+}  // namespace sphray

@@ -1,0 +1,41 @@
+// The public queries: each forwards to the kernel chosen at run time.
+#include "sphray/query.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "sphray/isa.hpp"
+
+namespace sphray {
+
+Hit intersect(SphereView spheres, const Ray& ray) {
+  return active_kernel().intersect(spheres, ray);
+}
+
+bool occluded(SphereView spheres, const Ray& ray) {
+  return active_kernel().occluded(spheres, ray);
+}
+
+void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hits) {
+  if (rays.size() != hits.size())
+    throw std::length_error("sphray::intersect: rays and hits differ in size");
+  active_kernel().intersect_stream(spheres, rays.data(), hits.data(), rays.size());
+}
+
+Surface surface(SphereView spheres, const Ray& ray, const Hit& hit) {
+  const Vec3 p = ray.at(hit.t);
+  if (!hit.found() || hit.id >= spheres.count) return {p, {0.0f, 0.0f, 0.0f}, false};
+  const Vec3 center{spheres.cx[hit.id], spheres.cy[hit.id], spheres.cz[hit.id]};
+  const float radius = spheres.radius[hit.id];
+  // The normal from the centre, not (p - centre) / radius: p is off the sphere by t's rounding,
+  // and normalising keeps the normal unit length whatever that error. The point is then put
+  // back on the sphere along it, so secondary rays start from the surface itself.
+  // A hit at the very centre (radius below float's resolution) has no direction from it: face
+  // the ray instead, so the normal is still unit length.
+  const Vec3 from_center = p - center;
+  const float len = length(from_center);
+  const Vec3 normal = len > 0.0f && std::isfinite(len) ? from_center / len : -normalize(ray.dir);
+  return {center + radius * normal, normal, dot(ray.dir, normal) < 0.0f};
+}
+
+}  // namespace sphray

@@ -1,0 +1,86 @@
+// The scalar reference: the kernel's contract in plain C++, one sphere at a time, written to be
+// obviously right rather than fast. Tests compare every instruction set against it.
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "kernel_table.hpp"
+#include "sphray/query.hpp"
+
+namespace sphray::scalar {
+namespace {
+
+bool valid_ray(const Ray& ray) {
+  const float a = dot(ray.dir, ray.dir);
+  return isfinite(ray.origin) && isfinite(ray.dir) && ray.tmin < ray.tmax && a >= 0x1p-126f &&
+         std::isfinite(a);
+}
+
+bool valid_sphere(Vec3 center, float radius) {
+  return isfinite(center) && std::isfinite(radius) && radius > 0.0f;
+}
+
+// The ray parameter at which ray enters the sphere, or leaves it if it starts inside, when that
+// lies in (tmin, tmax). See SphereBatchKernel::roots for the precision method.
+std::optional<float> sphere_hit(Vec3 center, float radius, const Ray& ray, float tmax) {
+  if (!valid_sphere(center, radius)) return std::nullopt;
+  const Vec3 d = ray.dir;
+  const Vec3 g = center - ray.origin;
+  const float a = dot(d, d);
+  const float b = dot(g, d);
+  const Vec3 v = (b / a) * d - g;  // from the centre to the ray's closest point
+  const float disc = radius * radius - dot(v, v);
+  if (!(disc >= 0.0f)) return std::nullopt;
+  const float c = dot(g, g) - radius * radius;
+  const float q = b + std::copysign(std::sqrt(a * disc), b);
+  const float t0 = c / q;
+  const float t1 = q / a;
+  // t0 is NaN only for 0/0 (origin on the sphere, tangent); both roots are then t1.
+  const float near = t0 < t1 ? t0 : t1;
+  const float far = t0 > t1 ? t0 : t1;
+  const float t = near > ray.tmin ? near : far;
+  if (t > ray.tmin && t < tmax) return t;
+  return std::nullopt;
+}
+
+Vec3 center_of(const SphereView& v, std::size_t i) {
+  return {v.cx[i], v.cy[i], v.cz[i]};
+}
+
+std::size_t id_count(const SphereView& v) {
+  return std::min<std::size_t>(v.count, kNoHit);
+}
+
+}  // namespace
+
+Hit intersect(SphereView spheres, const Ray& ray) {
+  Hit best{ray.tmax, kNoHit};
+  if (!valid_ray(ray)) return best;
+  for (std::size_t i = 0; i < id_count(spheres); ++i) {
+    // Strictly closer only: on equal t the lower id stays.
+    if (auto t = sphere_hit(center_of(spheres, i), spheres.radius[i], ray, best.t))
+      best = {*t, static_cast<std::uint32_t>(i)};
+  }
+  return best;
+}
+
+bool occluded(SphereView spheres, const Ray& ray) {
+  if (!valid_ray(ray)) return false;
+  for (std::size_t i = 0; i < id_count(spheres); ++i)
+    if (sphere_hit(center_of(spheres, i), spheres.radius[i], ray, ray.tmax)) return true;
+  return false;
+}
+
+}  // namespace sphray::scalar
+
+namespace sphray::detail {
+namespace {
+void scalar_stream(SphereView spheres, const Ray* rays, Hit* hits, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i)
+    hits[i] = scalar::intersect(spheres, rays[i]);
+}
+}  // namespace
+
+constinit const Kernel kScalarKernel = {Isa::scalar, 1, &scalar::intersect, &scalar::occluded,
+                                        &scalar_stream};
+}  // namespace sphray::detail

@@ -1,0 +1,177 @@
+// The sphere kernel, written once over an xsimd architecture A: one ray against a batch of
+// batch<float, A>::size spheres per step. Each per-ISA translation unit includes this header
+// and instantiates it with its own A (see docs/kernel.md, "Dispatch").
+//
+// Everything here is a member of a class template over A, so two units compiled with different
+// flags never emit a function under the same symbol name for the linker to merge. For the same
+// reason this header calls no non-template inline function of the public headers or of the
+// standard library: only builtins and xsimd, whose code is templated on A as well.
+#pragma once
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "sphray/ray.hpp"
+#include "sphray/spheres.hpp"
+
+namespace sphray::detail {
+
+template <class A>
+struct SphereBatchKernel {
+  using Floats = xsimd::batch<float, A>;
+  using Mask = xsimd::batch_bool<float, A>;
+  static constexpr std::size_t kWidth = Floats::size;
+
+  // What one ray contributes to every batch, computed once per ray.
+  struct RaySetup {
+    Floats ox, oy, oz, dx, dy, dz;
+    Floats a, inv_a, tmin;
+    float tmax;
+  };
+
+  // Four SoA arrays starting at one batch.
+  struct Spheres {
+    Floats cx, cy, cz, r;
+  };
+
+  static bool finite(float x) { return __builtin_isfinite(x); }
+
+  // False for the rays the contract says miss everything. a = |d|^2 must be a normal, finite
+  // float: 1/a is then finite too.
+  static bool setup(const Ray& ray, RaySetup& s) {
+    const Vec3& o = ray.origin;
+    const Vec3& d = ray.dir;
+    const float a = d.x * d.x + d.y * d.y + d.z * d.z;
+    const bool ok = finite(o.x) && finite(o.y) && finite(o.z) && finite(d.x) && finite(d.y) &&
+                    finite(d.z) && ray.tmin < ray.tmax && a >= 0x1p-126f && finite(a);
+    if (!ok) return false;
+    s = RaySetup{Floats(o.x), Floats(o.y), Floats(o.z),      Floats(d.x),      Floats(d.y),
+                 Floats(d.z), Floats(a),   Floats(1.0f / a), Floats(ray.tmin), ray.tmax};
+    return true;
+  }
+
+  static Spheres load(const SphereView& v, std::size_t i) {
+    return {Floats::load_unaligned(v.cx + i), Floats::load_unaligned(v.cy + i),
+            Floats::load_unaligned(v.cz + i), Floats::load_unaligned(v.radius + i)};
+  }
+
+  // The last count % kWidth spheres of a view that promises no padding, copied into a batch
+  // padded with radius-0 spheres (never hit). Paid once per ray, not per batch.
+  static Spheres load_tail(const SphereView& v, std::size_t i) {
+    alignas(64) float x[kWidth] = {}, y[kWidth] = {}, z[kWidth] = {}, r[kWidth] = {};
+    for (std::size_t k = 0; i + k < v.count; ++k) {
+      x[k] = v.cx[i + k];
+      y[k] = v.cy[i + k];
+      z[k] = v.cz[i + k];
+      r[k] = v.radius[i + k];
+    }
+    return {Floats::load_aligned(x), Floats::load_aligned(y), Floats::load_aligned(z),
+            Floats::load_aligned(r)};
+  }
+
+  // Per lane: the ray parameter t of the near root if it lies above tmin, else of the far root,
+  // and whether the lane can hit at all. Returns false when no lane can: the caller skips the
+  // batch (one branch per batch, not per sphere).
+  //
+  // Precision (Haines, Guenther, Akenine-Moeller, "Precision Improvements for Ray/Sphere
+  // Intersection", Ray Tracing Gems ch. 7): with g = centre - origin (= -f), b' = g.d and
+  // c = g.g - r^2, the discriminant is taken in its perpendicular form r^2 - |b'/a d - g|^2,
+  // which does not lose the small difference b'^2 - a c to cancellation, and the roots as
+  // c/q and q/a with q = b' + sign(b') sqrt(a disc), which never subtracts nearly equal values.
+  static bool roots(const RaySetup& s, const Spheres& sp, Floats& t, Mask& live) {
+    const Floats gx = sp.cx - s.ox, gy = sp.cy - s.oy, gz = sp.cz - s.oz;
+    const Floats b = xsimd::fma(gx, s.dx, xsimd::fma(gy, s.dy, gz * s.dz));
+    const Floats k = b * s.inv_a;
+    const Floats vx = xsimd::fms(k, s.dx, gx), vy = xsimd::fms(k, s.dy, gy),
+                 vz = xsimd::fms(k, s.dz, gz);
+    const Floats r2 = sp.r * sp.r;
+    const Floats disc = r2 - xsimd::fma(vx, vx, xsimd::fma(vy, vy, vz * vz));
+    // NaN and infinite sphere fields make disc NaN (infinite centre: inf - inf in v), which
+    // fails this test; radius <= 0 needs its own.
+    live = (disc >= Floats(0.0f)) & (sp.r > Floats(0.0f));
+    if (xsimd::none(live)) return false;
+    const Floats c = xsimd::fma(gx, gx, xsimd::fma(gy, gy, xsimd::fms(gz, gz, r2)));
+    const Floats q = b + xsimd::copysign(xsimd::sqrt(s.a * disc), b);
+    const Floats t0 = c / q, t1 = q * s.inv_a;
+    // x86 min/max return the second operand if either is NaN: t0 is NaN only for 0/0 (origin on
+    // the sphere, tangent), and then both roots are t1.
+    const Floats near = xsimd::min(t0, t1), far = xsimd::max(t0, t1);
+    t = xsimd::select(near > s.tmin, near, far);
+    return true;
+  }
+
+  // Batch index i's bits, kept in a float lane: select() moves bits, never does arithmetic.
+  static Floats index_bits(std::uint32_t i) { return Floats(std::bit_cast<float>(i)); }
+
+  // The horizontal step, once per ray: the smallest t over the lanes, the lowest id on ties.
+  static Hit reduce(const Floats& best_t, const Floats& best_batch, float tmax) {
+    alignas(64) float t[kWidth];
+    alignas(64) float batch[kWidth];
+    best_t.store_aligned(t);
+    best_batch.store_aligned(batch);
+    Hit hit{tmax, kNoHit};
+    for (std::size_t lane = 0; lane < kWidth; ++lane) {
+      const std::uint32_t b = std::bit_cast<std::uint32_t>(batch[lane]);
+      if (b == kNoHit) continue;
+      const auto id = static_cast<std::uint32_t>(b * kWidth + lane);
+      if (t[lane] < hit.t || (t[lane] == hit.t && id < hit.id)) hit = {t[lane], id};
+    }
+    return hit;
+  }
+
+  // Batches that can be read whole: all of them if the view promises padding.
+  static std::size_t whole_batches(const SphereView& v) {
+    const std::size_t rounded = (v.count + kWidth - 1) / kWidth;
+    return v.padded_count >= rounded * kWidth ? rounded : v.count / kWidth;
+  }
+
+  // Ids are 32-bit with kNoHit reserved: a larger view is read as its first 2^32 - 1 spheres.
+  static SphereView clamp(SphereView v) {
+    if (v.count > kNoHit) v.count = kNoHit;
+    return v;
+  }
+
+  static Hit intersect(SphereView v, const Ray& ray) {
+    RaySetup s;
+    if (!setup(ray, s)) return {ray.tmax, kNoHit};
+    v = clamp(v);
+    Floats best_t(s.tmax);
+    Floats best_batch = index_bits(kNoHit);
+    // Strict < keeps the earlier batch (lower id) in a lane on equal t.
+    auto keep = [&](const Spheres& sp, std::uint32_t batch) {
+      Floats t;
+      Mask live;
+      if (!roots(s, sp, t, live)) return;
+      const Mask hit = live & (t > s.tmin) & (t < best_t);
+      best_t = xsimd::select(hit, t, best_t);
+      best_batch = xsimd::select(hit, index_bits(batch), best_batch);
+    };
+    const std::size_t whole = whole_batches(v);
+    for (std::size_t b = 0; b < whole; ++b)
+      keep(load(v, b * kWidth), static_cast<std::uint32_t>(b));
+    if (whole * kWidth < v.count)
+      keep(load_tail(v, whole * kWidth), static_cast<std::uint32_t>(whole));
+    return reduce(best_t, best_batch, ray.tmax);
+  }
+
+  static bool occluded(SphereView v, const Ray& ray) {
+    RaySetup s;
+    if (!setup(ray, s)) return false;
+    v = clamp(v);
+    const Floats tmax(s.tmax);
+    auto any_hit = [&](const Spheres& sp) {
+      Floats t;
+      Mask live;
+      return roots(s, sp, t, live) && xsimd::any(live & (t > s.tmin) & (t < tmax));
+    };
+    const std::size_t whole = whole_batches(v);
+    for (std::size_t b = 0; b < whole; ++b)
+      if (any_hit(load(v, b * kWidth))) return true;
+    return whole * kWidth < v.count && any_hit(load_tail(v, whole * kWidth));
+  }
+};
+
+}  // namespace sphray::detail
