@@ -1,0 +1,34 @@
+// The pinhole camera of Ray Tracing in One Weekend: focal length 1, no defocus blur.
+#pragma once
+
+#include "sphray/render/scene.hpp"
+#include "sphray/sphray.hpp"
+
+namespace sphray::render {
+
+class Camera {
+ public:
+  /// Throws SceneError if spec cannot place a camera (lookfrom == lookat, vup parallel to the
+  /// view direction, vfov outside (0, 180), a non-finite field) or the size is not positive.
+  Camera(const CameraSpec& spec, int width, int height);
+
+  /// The ray through image point (px, py): px in [0, width), py in [0, height), row 0 at the
+  /// top; the centre of pixel (x, y) is (x + 0.5, y + 0.5). The direction is not normalised
+  /// (as in the book): it reaches the viewport plane at distance 1 from the camera at t = 1.
+  Ray ray(float px, float py) const {
+    return {origin_, upper_left_ + px * pixel_du_ + py * pixel_dv_};
+  }
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  Vec3 origin() const { return origin_; }
+
+ private:
+  Vec3 origin_;
+  Vec3 upper_left_;  // from the origin to the viewport's upper-left corner
+  Vec3 pixel_du_;    // one pixel to the right
+  Vec3 pixel_dv_;    // one pixel down
+  int width_, height_;
+};
+
+}  // namespace sphray::render

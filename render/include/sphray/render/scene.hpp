@@ -1,0 +1,74 @@
+// Scenes: the presets (single, three, rtiow-final, random:N) and JSON scene files.
+//
+// Every generator is deterministic: it draws from std::mt19937 (whose output the standard
+// fixes) through hand-written conversions to float, never through std::uniform_*_distribution
+// (whose output differs between standard libraries), so a preset is the same on every platform.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sphray/sphray.hpp"
+
+namespace sphray::render {
+
+/// A pinhole camera as Ray Tracing in One Weekend places it.
+struct CameraSpec {
+  Vec3 lookfrom{0, 0, 0};
+  Vec3 lookat{0, 0, -1};
+  Vec3 vup{0, 1, 0};
+  float vfov = 90.0f;  // vertical field of view, degrees
+};
+
+struct Scene {
+  std::string name;
+  SphereSoA spheres;
+  std::vector<Vec3> colors;  // one per sphere, each component in [0,1]
+  CameraSpec camera;
+  int width = 400, height = 225;  // default image size
+};
+
+/// A scene that cannot be made: an unknown preset, or a file that is missing, unreadable,
+/// malformed or invalid. what() is one line, "file:line:col: expected ..." when the position
+/// is known, "file: ..." otherwise.
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The largest N random:N accepts, and the largest width or height a scene may ask for.
+inline constexpr std::size_t kMaxRandomSpheres = std::size_t{1} << 24;
+inline constexpr int kMaxImageSide = 16384;
+
+/// "single", "three", "rtiow-final", "random:N".
+std::vector<std::string> preset_names();
+/// One line describing each preset, in the order of preset_names().
+std::vector<std::string> preset_descriptions();
+/// The preset called name. Throws SceneError for an unknown name or a bad N.
+Scene make_preset(std::string_view name);
+/// A scene read from a JSON file (format in docs/scenes.md). Throws SceneError.
+Scene load_scene(const std::filesystem::path& file);
+/// A scene parsed from JSON text; source names it in messages. Throws SceneError.
+Scene parse_scene(std::string_view json_text, const std::string& source);
+/// A preset if name_or_file names one (or starts with "random:"), else a JSON file.
+Scene load_scene_or_preset(std::string_view name_or_file);
+
+/// The fixed, portable random numbers every preset draws from.
+class SceneRandom {
+ public:
+  explicit SceneRandom(std::uint32_t seed) : engine_(seed) {}
+  /// Uniform in [0, 1): the top 24 bits of one mt19937 output, exact in float.
+  float uniform() { return static_cast<float>(engine_() >> 8) * 0x1p-24f; }
+  /// Uniform in [lo, hi).
+  float uniform(float lo, float hi) { return lo + (hi - lo) * uniform(); }
+
+ private:
+  std::mt19937 engine_;
+};
+
+}  // namespace sphray::render

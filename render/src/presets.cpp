@@ -1,0 +1,163 @@
+// The preset scenes. Each draws its randomness from SceneRandom with a fixed seed, so a preset
+// is the same sphere for sphere on every run and every platform.
+#include <charconv>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "sphray/render/scene.hpp"
+
+namespace sphray::render {
+namespace {
+
+constexpr std::uint32_t kRtiowSeed = 20160101u;
+constexpr std::uint32_t kRandomSeed = 42u;
+
+void add_sphere(Scene& scene, Vec3 center, float radius, Vec3 color) {
+  scene.spheres.add(center, radius);
+  scene.colors.push_back(color);
+}
+
+Vec3 random_color(SceneRandom& rng) {
+  float r = rng.uniform();
+  float g = rng.uniform();
+  float b = rng.uniform();
+  return {r, g, b};
+}
+
+// Ray Tracing in One Weekend, chapter 5: one sphere in front of a camera at the origin whose
+// viewport is 2 high at focal length 1, which is a vertical field of view of 90 degrees.
+Scene make_single() {
+  Scene scene;
+  scene.name = "single";
+  add_sphere(scene, {0, 0, -1}, 0.5f, {1, 0, 0});
+  scene.camera = CameraSpec{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 90.0f};
+  return scene;
+}
+
+Scene make_three() {
+  Scene scene;
+  scene.name = "three";
+  add_sphere(scene, {0, 0, 0}, 1.0f, {0.9f, 0.15f, 0.1f});
+  add_sphere(scene, {-2.2f, -0.3f, 0.5f}, 0.7f, {0.15f, 0.3f, 0.9f});
+  add_sphere(scene, {2, -0.5f, 1}, 0.5f, {0.15f, 0.8f, 0.2f});
+  // Slightly above, a little off-axis, with room around the outer spheres.
+  scene.camera = CameraSpec{{0.5f, 1.5f, 7.0f}, {0, -0.2f, 0.3f}, {0, 1, 0}, 40.0f};
+  return scene;
+}
+
+// Ray Tracing in One Weekend, chapter 14 ("Where Next?"): the cover scene. The draws follow the
+// book's order (material choice, then the centre, then the material's own draws) so the grid
+// has the book's structure; colours stand in for its materials: a diffuse albedo as drawn,
+// metal's albedo as drawn, glass white.
+Scene make_rtiow_final() {
+  Scene scene;
+  scene.name = "rtiow-final";
+  SceneRandom rng(kRtiowSeed);
+  scene.spheres.reserve(1 + 22 * 22 + 3);
+  scene.colors.reserve(1 + 22 * 22 + 3);
+  add_sphere(scene, {0, -1000, 0}, 1000.0f, {0.5f, 0.5f, 0.5f});
+  for (int a = -11; a < 11; ++a) {
+    for (int b = -11; b < 11; ++b) {
+      float choose_material = rng.uniform();
+      float cx = static_cast<float>(a) + 0.9f * rng.uniform();
+      float cz = static_cast<float>(b) + 0.9f * rng.uniform();
+      Vec3 center{cx, 0.2f, cz};
+      if (length(center - Vec3{4, 0.2f, 0}) <= 0.9f) continue;
+      Vec3 color{1, 1, 1};  // glass
+      if (choose_material < 0.8f) {
+        color = random_color(rng) * random_color(rng);  // diffuse
+      } else if (choose_material < 0.95f) {
+        float r = rng.uniform(0.5f, 1);
+        float g = rng.uniform(0.5f, 1);
+        float bl = rng.uniform(0.5f, 1);
+        color = {r, g, bl};
+        rng.uniform(0, 0.5f);  // the book's fuzz draw, kept so the sequence matches
+      }
+      add_sphere(scene, center, 0.2f, color);
+    }
+  }
+  add_sphere(scene, {0, 1, 0}, 1.0f, {1, 1, 1});
+  add_sphere(scene, {-4, 1, 0}, 1.0f, {0.4f, 0.2f, 0.1f});
+  add_sphere(scene, {4, 1, 0}, 1.0f, {0.7f, 0.6f, 0.5f});
+  scene.camera = CameraSpec{{13, 2, 3}, {0, 0, 0}, {0, 1, 0}, 20.0f};
+  scene.width = 1200;
+  scene.height = 675;
+  return scene;
+}
+
+// n spheres in the box [-50, 50]^3, radii in [0.5, 1.5] * 50 / cbrt(n) so the volume they
+// fill stays about the same whatever n is, viewed from outside the box.
+Scene make_random(std::size_t n) {
+  Scene scene;
+  scene.name = "random:" + std::to_string(n);
+  SceneRandom rng(kRandomSeed);
+  scene.spheres.reserve(n);
+  scene.colors.reserve(n);
+  float scale = 50.0f / std::cbrt(static_cast<float>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    float x = rng.uniform(-50, 50);
+    float y = rng.uniform(-50, 50);
+    float z = rng.uniform(-50, 50);
+    float radius = rng.uniform(0.5f, 1.5f) * scale;
+    scene.spheres.add({x, y, z}, radius);
+    scene.colors.push_back(random_color(rng));
+  }
+  // A sphere bounding the box and the largest radius fits the vertical field of view.
+  float bound = 50.0f * std::numbers::sqrt3_v<float> + 1.5f * scale;
+  float vfov = 40.0f;
+  float distance = bound / std::sin(vfov / 2.0f * std::numbers::pi_v<float> / 180.0f);
+  Vec3 from = normalize(Vec3{1.0f, 0.6f, 1.6f}) * distance;
+  scene.camera = CameraSpec{from, {0, 0, 0}, {0, 1, 0}, vfov};
+  return scene;
+}
+
+std::size_t parse_sphere_count(std::string_view text) {
+  std::size_t n = 0;
+  auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), n);
+  if (error != std::errc{} || end != text.data() + text.size() || n == 0 || n > kMaxRandomSpheres) {
+    throw SceneError("random:" + std::string(text) + ": expected random:N with N from 1 to " +
+                     std::to_string(kMaxRandomSpheres));
+  }
+  return n;
+}
+
+}  // namespace
+
+std::vector<std::string> preset_names() {
+  return {"single", "three", "rtiow-final", "random:N"};
+}
+
+std::vector<std::string> preset_descriptions() {
+  return {
+      "one sphere in front of the camera (Ray Tracing in One Weekend, chapter 5)",
+      "three spheres, red, blue and green",
+      "the cover of Ray Tracing in One Weekend: 486 spheres, fixed seed (the default)",
+      "N spheres in a 100-unit box, fixed seed, N from 1 to " + std::to_string(kMaxRandomSpheres),
+  };
+}
+
+Scene make_preset(std::string_view name) {
+  if (name == "single") return make_single();
+  if (name == "three") return make_three();
+  if (name == "rtiow-final") return make_rtiow_final();
+  constexpr std::string_view random_prefix = "random:";
+  if (name.starts_with(random_prefix)) {
+    return make_random(parse_sphere_count(name.substr(random_prefix.size())));
+  }
+  throw SceneError(std::string(name) +
+                   ": expected a preset (single, three, rtiow-final, random:N) or a .json file");
+}
+
+Scene load_scene_or_preset(std::string_view name_or_file) {
+  bool is_preset_name = name_or_file == "single" || name_or_file == "three" ||
+                        name_or_file == "rtiow-final" || name_or_file.starts_with("random:");
+  if (is_preset_name) return make_preset(name_or_file);
+  std::filesystem::path file(name_or_file);
+  if (file.extension() != ".json" && !std::filesystem::exists(file)) {
+    return make_preset(name_or_file);  // neither a preset nor a file: the preset message
+  }
+  return load_scene(file);
+}
+
+}  // namespace sphray::render

@@ -1,0 +1,363 @@
+// Scene files: JSON read with nlohmann_json, checked field by field, every refusal one line
+// naming the file, the line and column, and what was expected there.
+//
+// nlohmann_json 3.11 keeps no source positions in its values, so the checks run on the parsed
+// document and, only when one fails, a second SAX pass over the text finds where the offending
+// value (or key) starts.
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "sphray/render/camera.hpp"
+#include "sphray/render/scene.hpp"
+
+namespace sphray::render {
+namespace {
+
+using nlohmann::json;
+
+// A check that failed: the path (a JSON pointer, keys unescaped: it is only matched, never
+// resolved) of the value at fault, whether to point at its key
+// rather than its value, and what was expected.
+struct Invalid {
+  std::string pointer;
+  bool at_key;
+  std::string expected;
+};
+
+[[noreturn]] void fail(const std::string& pointer, std::string expected, bool at_key = false) {
+  throw Invalid{pointer, at_key, std::move(expected)};
+}
+
+std::string type_of(const json& value) {
+  if (value.is_number()) return "a number";
+  if (value.is_string()) return "a string";
+  if (value.is_boolean()) return "a boolean";
+  if (value.is_null()) return "null";
+  if (value.is_array()) return "an array";
+  return "an object";
+}
+
+float number_at(const json& value, const std::string& pointer, const std::string& what) {
+  if (!value.is_number()) fail(pointer, what + " to be a number, got " + type_of(value));
+  // Values beyond float's range become infinite here and are refused with the rest.
+  float x = value.get<float>();
+  if (!std::isfinite(x)) fail(pointer, what + " to be a finite number (as a float)");
+  return x;
+}
+
+Vec3 vec3_at(const json& value, const std::string& pointer, const std::string& what) {
+  if (!value.is_array() || value.size() != 3) {
+    fail(pointer,
+         what + " to be an array of 3 numbers, got " +
+             (value.is_array() ? std::to_string(value.size()) + " elements" : type_of(value)));
+  }
+  Vec3 v{};
+  float* out[3] = {&v.x, &v.y, &v.z};
+  for (std::size_t i = 0; i < 3; ++i) {
+    *out[i] = number_at(value[i], pointer + "/" + std::to_string(i), what + " components");
+  }
+  return v;
+}
+
+const json& object_at(const json& value, const std::string& pointer, const std::string& what,
+                      std::initializer_list<std::string_view> allowed_keys) {
+  if (!value.is_object()) fail(pointer, what + " to be an object, got " + type_of(value));
+  for (const auto& [key, unused] : value.items()) {
+    bool allowed = false;
+    for (std::string_view k : allowed_keys)
+      allowed = allowed || k == key;
+    if (!allowed) {
+      std::string list;
+      for (std::string_view k : allowed_keys)
+        list += (list.empty() ? "" : ", ") + std::string(k);
+      fail(pointer + "/" + key,
+           "one of the keys " + list + " in " + what + ", got unknown key \"" + key + "\"", true);
+    }
+  }
+  return value;
+}
+
+int side_at(const json& value, const std::string& pointer, const std::string& what) {
+  if (!value.is_number_integer() || value.get<std::int64_t>() < 1 ||
+      value.get<std::int64_t>() > kMaxImageSide) {
+    fail(pointer, what + " to be an integer from 1 to " + std::to_string(kMaxImageSide));
+  }
+  return value.get<int>();
+}
+
+CameraSpec camera_at(const json& value) {
+  const json& camera =
+      object_at(value, "/camera", "\"camera\"", {"lookfrom", "lookat", "vup", "vfov"});
+  CameraSpec spec;
+  if (camera.contains("lookfrom"))
+    spec.lookfrom = vec3_at(camera["lookfrom"], "/camera/lookfrom", "\"lookfrom\"");
+  if (camera.contains("lookat"))
+    spec.lookat = vec3_at(camera["lookat"], "/camera/lookat", "\"lookat\"");
+  if (camera.contains("vup")) spec.vup = vec3_at(camera["vup"], "/camera/vup", "\"vup\"");
+  if (camera.contains("vfov")) spec.vfov = number_at(camera["vfov"], "/camera/vfov", "\"vfov\"");
+  try {
+    Camera check(spec, 16, 9);
+  } catch (const SceneError& e) {
+    std::string message = e.what();
+    fail("/camera", message.substr(message.find("expected ") + 9));
+  }
+  return spec;
+}
+
+void add_sphere_at(Scene& scene, const json& value, const std::string& pointer) {
+  const json& sphere = object_at(value, pointer, "a sphere", {"center", "radius", "color"});
+  if (!sphere.contains("center")) fail(pointer, "a sphere to have a \"center\"");
+  if (!sphere.contains("radius")) fail(pointer, "a sphere to have a \"radius\"");
+  Vec3 center = vec3_at(sphere["center"], pointer + "/center", "\"center\"");
+  float radius = number_at(sphere["radius"], pointer + "/radius", "\"radius\"");
+  if (!(radius > 0.0f))
+    fail(pointer + "/radius", "\"radius\" to be positive, got " + sphere["radius"].dump());
+  Vec3 color{0.5f, 0.5f, 0.5f};
+  if (sphere.contains("color")) {
+    color = vec3_at(sphere["color"], pointer + "/color", "\"color\"");
+    for (int i = 0; i < 3; ++i) {
+      if (!(color[i] >= 0.0f && color[i] <= 1.0f)) {
+        fail(pointer + "/color/" + std::to_string(i), "\"color\" components in [0, 1]");
+      }
+    }
+  }
+  scene.spheres.add(center, radius);
+  scene.colors.push_back(color);
+}
+
+// The image size: both given, or one given and the other following 16:9, or the default.
+void size_at(Scene& scene, const json& root) {
+  bool has_width = root.contains("width"), has_height = root.contains("height");
+  if (has_width) scene.width = side_at(root["width"], "/width", "\"width\"");
+  if (has_height) scene.height = side_at(root["height"], "/height", "\"height\"");
+  if (has_width && !has_height) scene.height = std::max(1, scene.width * 9 / 16);
+  if (has_height && !has_width) scene.width = std::min(kMaxImageSide, scene.height * 16 / 9);
+}
+
+Scene scene_from(const json& root, const std::string& source) {
+  object_at(root, "", "the scene", {"name", "camera", "spheres", "width", "height"});
+  Scene scene;
+  scene.name = source;
+  if (root.contains("name")) {
+    if (!root["name"].is_string()) fail("/name", "\"name\" to be a string");
+    scene.name = root["name"].get<std::string>();
+  }
+  if (root.contains("camera")) scene.camera = camera_at(root["camera"]);
+  size_at(scene, root);
+  if (!root.contains("spheres")) fail("", "the scene to have a \"spheres\" array");
+  const json& spheres = root["spheres"];
+  if (!spheres.is_array()) fail("/spheres", "\"spheres\" to be an array, got " + type_of(spheres));
+  scene.spheres.reserve(spheres.size());
+  scene.colors.reserve(spheres.size());
+  for (std::size_t i = 0; i < spheres.size(); ++i) {
+    add_sphere_at(scene, spheres[i], "/spheres/" + std::to_string(i));
+  }
+  return scene;
+}
+
+// An input iterator for nlohmann's SAX parser that counts the characters read so far.
+class CountingIterator {
+ public:
+  using iterator_category = std::forward_iterator_tag;
+  using value_type = char;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const char*;
+  using reference = const char&;
+
+  CountingIterator(const char* p, const char* base, std::size_t* read)
+      : p_(p), base_(base), read_(read) {}
+  reference operator*() const { return *p_; }
+  CountingIterator& operator++() {
+    ++p_;
+    *read_ = static_cast<std::size_t>(p_ - base_);
+    return *this;
+  }
+  CountingIterator operator++(int) {
+    CountingIterator old = *this;
+    ++*this;
+    return old;
+  }
+  bool operator==(const CountingIterator& other) const { return p_ == other.p_; }
+
+ private:
+  const char* p_;
+  const char* base_;
+  std::size_t* read_;
+};
+
+// A SAX handler that notes how far the parser had read when it finished the key or the value
+// at one JSON pointer: the end of that token (plus, after a number, one character of lookahead).
+class PointerFinder : public nlohmann::json_sax<json> {
+ public:
+  PointerFinder(std::string target, bool at_key, const std::size_t* read)
+      : target_(std::move(target)), at_key_(at_key), read_(read) {}
+  std::optional<std::size_t> found() const { return found_; }
+
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(std::size_t) override { return open(false); }
+  bool start_array(std::size_t) override { return open(true); }
+  bool end_object() override { return close(); }
+  bool end_array() override { return close(); }
+  bool key(string_t& name) override {
+    frames_.back().key = name;
+    if (at_key_ && path() == target_) found_ = *read_;
+    return !found_;
+  }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+    return false;
+  }
+
+ private:
+  struct Frame {
+    std::string path;
+    bool is_array;
+    std::size_t index = 0;
+    std::string key;
+  };
+
+  std::string path() const {
+    if (frames_.empty()) return "";
+    const Frame& f = frames_.back();
+    return f.path + "/" + (f.is_array ? std::to_string(f.index) : f.key);
+  }
+  // Every value, scalar or container, starts at the current path.
+  bool value() {
+    if (!at_key_ && path() == target_) found_ = *read_;
+    if (!frames_.empty() && frames_.back().is_array) ++frames_.back().index;
+    return !found_;
+  }
+  bool open(bool is_array) {
+    std::string here = path();
+    if (!at_key_ && here == target_) found_ = *read_;
+    frames_.push_back({here, is_array, 0, {}});
+    return !found_;
+  }
+  bool close() {
+    frames_.pop_back();
+    if (!frames_.empty() && frames_.back().is_array) ++frames_.back().index;
+    return true;
+  }
+
+  std::string target_;
+  bool at_key_;
+  const std::size_t* read_;
+  std::vector<Frame> frames_;
+  std::optional<std::size_t> found_;
+};
+
+bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\n' || c == '\r';
+}
+
+// Where the token that ends at or just before `read` characters starts.
+std::size_t token_start(std::string_view text, std::size_t read) {
+  std::size_t last = std::min(read, text.size());
+  // A number is finished by one character of lookahead: whitespace or a delimiter.
+  while (last > 0 && (is_space(text[last - 1]) || std::strchr(",:]}", text[last - 1]) != nullptr)) {
+    --last;
+  }
+  if (last == 0) return 0;
+  std::size_t i = last - 1;
+  if (text[i] == '{' || text[i] == '[') return i;
+  if (text[i] == '"') {
+    for (std::size_t j = i; j-- > 0;) {
+      if (text[j] == '"' && (j == 0 || text[j - 1] != '\\')) return j;
+    }
+    return 0;
+  }
+  while (i > 0 && (std::isalnum(static_cast<unsigned char>(text[i - 1])) || text[i - 1] == '.' ||
+                   text[i - 1] == '+' || text[i - 1] == '-')) {
+    --i;
+  }
+  return i;
+}
+
+std::string line_column(std::string_view text, std::size_t offset) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return std::to_string(line) + ":" + std::to_string(column);
+}
+
+std::string locate(std::string_view text, const Invalid& invalid) {
+  if (invalid.pointer.empty() && !invalid.at_key) return "1:1";
+  std::size_t read = 0;
+  CountingIterator first(text.data(), text.data(), &read);
+  CountingIterator last(text.data() + text.size(), text.data(), &read);
+  PointerFinder finder(invalid.pointer, invalid.at_key, &read);
+  json::sax_parse(first, last, &finder);
+  if (!finder.found()) return "1:1";
+  return line_column(text, token_start(text, *finder.found()));
+}
+
+// nlohmann's parse_error reads "[json.exception.parse_error.101] parse error at line 2,
+// column 5: syntax error while parsing ..."; keep what follows the position.
+std::string parse_error_detail(const json::parse_error& e) {
+  std::string message = e.what();
+  std::size_t column = message.find("column ");
+  std::size_t colon = message.find(": ", column == std::string::npos ? 0 : column);
+  return colon == std::string::npos ? message : message.substr(colon + 2);
+}
+
+std::string read_file(const std::filesystem::path& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) {
+    throw SceneError(file.string() + ": expected a scene file, got a directory");
+  }
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    throw SceneError(file.string() + ": cannot read the scene file (" + std::strerror(errno) + ")");
+  }
+  std::ostringstream content;
+  content << in.rdbuf();
+  if (in.bad()) throw SceneError(file.string() + ": cannot read the scene file");
+  return std::move(content).str();
+}
+
+}  // namespace
+
+Scene parse_scene(std::string_view text, const std::string& source) {
+  if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
+    throw SceneError(source + ": expected a JSON scene, the file is empty");
+  }
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::parse_error& e) {
+    // e.byte counts the characters read, the offending one included.
+    std::size_t offset = e.byte > 0 ? e.byte - 1 : 0;
+    throw SceneError(source + ":" + line_column(text, offset) + ": expected valid JSON (" +
+                     parse_error_detail(e) + ")");
+  }
+  try {
+    return scene_from(root, source);
+  } catch (const Invalid& invalid) {
+    throw SceneError(source + ":" + locate(text, invalid) + ": expected " + invalid.expected);
+  }
+}
+
+Scene load_scene(const std::filesystem::path& file) {
+  return parse_scene(read_file(file), file.string());
+}
+
+}  // namespace sphray::render
