@@ -1,0 +1,72 @@
+// Instruction-set naming and the SPHRAY_ISA rules (the process-wide choice itself is tested by
+// running isa_probe under different environments: see CMakeLists.txt).
+#include <algorithm>
+
+#include "test_support.hpp"
+
+namespace sphray {
+namespace {
+
+TEST(Isa, NamesRoundTrip) {
+  for (Isa isa : {Isa::scalar, Isa::sse4_2, Isa::avx2, Isa::avx512, Isa::neon})
+    EXPECT_EQ(parse_isa(isa_name(isa)), isa);
+  EXPECT_EQ(isa_name(Isa::sse4_2), "sse4.2");
+  EXPECT_FALSE(parse_isa("AVX2").has_value());
+  EXPECT_FALSE(parse_isa("").has_value());
+}
+
+TEST(Isa, SupportedListIsBestFirstAndEndsWithScalar) {
+  const auto isas = supported_isas();
+  ASSERT_FALSE(isas.empty());
+  EXPECT_EQ(isas.back(), Isa::scalar);
+  for (std::size_t i = 1; i < isas.size(); ++i)
+    EXPECT_GT(isa_width(isas[i - 1]), isa_width(isas[i]) - 1) << "not best first";
+  for (Isa isa : isas) {
+    const Kernel* k = find_kernel(isa);
+    ASSERT_NE(k, nullptr);
+    EXPECT_EQ(k->isa, isa);
+    EXPECT_EQ(k->width, isa_width(isa));
+  }
+}
+
+TEST(Isa, UnsetOrEmptyChoosesTheBest) {
+  EXPECT_EQ(choose_isa(nullptr).isa, supported_isas().front());
+  EXPECT_TRUE(choose_isa(nullptr).message.empty());
+  EXPECT_EQ(choose_isa("").isa, supported_isas().front());
+}
+
+TEST(Isa, EachRunnableChoiceIsHonoured) {
+  for (Isa isa : supported_isas()) {
+    const IsaChoice c = choose_isa(std::string(isa_name(isa)).c_str());
+    EXPECT_EQ(c.isa, isa);
+    EXPECT_TRUE(c.message.empty());
+  }
+}
+
+TEST(Isa, UnknownNameFallsBackWithAMessage) {
+  const IsaChoice c = choose_isa("avx9000");
+  EXPECT_EQ(c.isa, supported_isas().front());
+  EXPECT_NE(c.message.find("SPHRAY_ISA=avx9000"), std::string::npos) << c.message;
+  EXPECT_NE(c.message.find("using"), std::string::npos) << c.message;
+}
+
+TEST(Isa, UnrunnableChoiceFallsBackWithAMessage) {
+  // Some instruction set of the list is always missing: NEON on x86, the x86 ones on ARM.
+  for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512, Isa::neon}) {
+    if (find_kernel(isa) != nullptr) continue;
+    const IsaChoice c = choose_isa(std::string(isa_name(isa)).c_str());
+    EXPECT_EQ(c.isa, supported_isas().front());
+    EXPECT_NE(c.message.find("cannot run here"), std::string::npos) << c.message;
+    return;
+  }
+  FAIL() << "every instruction set is runnable: none to test the fallback with";
+}
+
+TEST(Isa, ActiveIsaIsRunnable) {
+  const auto isas = supported_isas();
+  EXPECT_NE(std::find(isas.begin(), isas.end(), active_isa()), isas.end());
+  EXPECT_EQ(active_kernel().isa, active_isa());
+}
+
+}  // namespace
+}  // namespace sphray

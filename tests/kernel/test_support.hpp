@@ -1,0 +1,85 @@
+// Helpers shared by the kernel tests: random scenes and rays, and a way to run a check on every
+// kernel this machine can run (each instruction set on its own, plus the dispatched queries).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <sphray/sphray.hpp>
+
+namespace sphray::test {
+
+// Sphere arrays that the test owns, with a configurable misalignment, so views with any start
+// address and any count can be made (the kernel must not assume SphereSoA's padding).
+struct LooseSpheres {
+  std::vector<float> storage[4];
+  std::size_t offset = 0;  // floats skipped at the front of each array
+  std::size_t count = 0;
+
+  explicit LooseSpheres(std::size_t misalign = 1) : offset(misalign) {
+    for (auto& s : storage)
+      s.assign(offset, 0.0f);
+  }
+  void add(Vec3 c, float r) {
+    storage[0].push_back(c.x);
+    storage[1].push_back(c.y);
+    storage[2].push_back(c.z);
+    storage[3].push_back(r);
+    ++count;
+  }
+  SphereView view() const {
+    return {storage[0].data() + offset, storage[1].data() + offset, storage[2].data() + offset,
+            storage[3].data() + offset, count};
+  }
+};
+
+inline float uniform(std::mt19937& rng, float lo, float hi) {
+  return std::uniform_real_distribution<float>(lo, hi)(rng);
+}
+
+inline Vec3 random_in_box(std::mt19937& rng, float half) {
+  return {uniform(rng, -half, half), uniform(rng, -half, half), uniform(rng, -half, half)};
+}
+
+// A direction of random length in [0.1, 10] (the contract allows any non-zero length).
+inline Vec3 random_direction(std::mt19937& rng) {
+  Vec3 d;
+  do {
+    d = random_in_box(rng, 1.0f);
+  } while (length_squared(d) < 1e-4f || length_squared(d) > 1.0f);
+  return normalize(d) * std::exp(uniform(rng, std::log(0.1f), std::log(10.0f)));
+}
+
+// n spheres in a box of half-size 10 whose radii make about half the rays hit something.
+template <class Store>
+void fill_random(Store& store, std::size_t n, std::mt19937& rng) {
+  const float r_mean = n == 0 ? 1.0f : 6.0f / std::cbrt(static_cast<float>(n) + 1.0f);
+  for (std::size_t i = 0; i < n; ++i)
+    store.add(random_in_box(rng, 10.0f), r_mean * uniform(rng, 0.3f, 1.7f));
+}
+
+inline std::vector<Ray> random_rays(std::size_t n, std::mt19937& rng) {
+  std::vector<Ray> rays(n);
+  for (auto& r : rays)
+    r = Ray{random_in_box(rng, 12.0f), random_direction(rng)};
+  return rays;
+}
+
+// Every kernel this machine runs, by instruction set (scalar included).
+inline std::vector<const Kernel*> runnable_kernels() {
+  std::vector<const Kernel*> kernels;
+  for (Isa isa : supported_isas())
+    kernels.push_back(find_kernel(isa));
+  return kernels;
+}
+
+inline std::string name_of(const Kernel* k) {
+  return std::string(isa_name(k->isa));
+}
+
+}  // namespace sphray::test
