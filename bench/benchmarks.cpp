@@ -1,0 +1,138 @@
+// The benchmark bodies: verify, then time passes over the rays; and build timings.
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "implementations.hpp"
+#include "verify.hpp"
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <x86intrin.h>
+#endif
+
+namespace sphray::bench {
+namespace {
+
+// Time stamp counter ticks: constant rate (the nominal clock) on every CPU this runs on,
+// whatever the core clock does. The "clock" benchmark relates the two.
+std::uint64_t ticks() {
+#if defined(__x86_64__) || defined(__i386__)
+  return __rdtsc();
+#else
+  return 0;
+#endif
+}
+
+std::size_t found_count(std::span<const Hit> hits) {
+  return static_cast<std::size_t>(
+      std::count_if(hits.begin(), hits.end(), [](const Hit& h) { return h.found(); }));
+}
+
+// Each implementation is checked once per workload; Google Benchmark enters a benchmark
+// several times (to size its iteration count), and a check on a million spheres is not free.
+const Agreement& check(const std::string& key, const Workload& w, const Trace& trace) {
+  static std::map<std::string, Agreement> checked;
+  auto it = checked.find(key);
+  if (it == checked.end()) {
+    std::vector<Hit> got(w.sample.size());
+    trace(w.sample, got);
+    it = checked.emplace(key, compare_hits(w.sample, w.expected, got)).first;
+  }
+  return it->second;
+}
+
+void trace_rays(benchmark::State& state, const std::string& name, std::string_view scene,
+                RayKind kind, const Implementation& impl) {
+  const Workload& w = workload(scene, kind);
+  const Trace trace = impl.prepare(w);
+  const Agreement& agreement = check(name, w, trace);
+  if (!agreement.ok()) {
+    state.SkipWithError(
+        ("disagrees with the scalar reference: " + agreement.first_mismatch).c_str());
+    return;
+  }
+  const std::vector<Ray>& rays = impl.brute_force ? w.brute_rays : w.rays;
+  std::vector<Hit> hits(rays.size());
+  std::uint64_t elapsed_ticks = 0;
+  for (auto _ : state) {
+    const std::uint64_t start = ticks();
+    trace(rays, hits);
+    elapsed_ticks += ticks() - start;
+    benchmark::DoNotOptimize(hits.data());
+    benchmark::ClobberMemory();
+  }
+  const auto passes = static_cast<double>(state.iterations());
+  const auto ray_count = static_cast<double>(rays.size());
+  const auto spheres = static_cast<double>(w.spheres.size());
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(rays.size()));
+  state.counters["spheres"] = spheres;
+  state.counters["rays"] = ray_count;
+  state.counters["threads"] = impl.threads;
+  state.counters["hit_fraction"] = static_cast<double>(found_count(hits)) / ray_count;
+  state.counters["id_ties"] = static_cast<double>(agreement.id_ties);
+  if (!impl.brute_force) return;
+  state.counters["sphere_tests_per_second"] =
+      benchmark::Counter(passes * ray_count * spheres, benchmark::Counter::kIsRate);
+  if (impl.threads == 1 && impl.width > 0) {
+    state.counters["width"] = static_cast<double>(impl.width);
+    state.counters["tsc_per_sphere"] =
+        static_cast<double>(elapsed_ticks) / (passes * ray_count * spheres);
+  }
+}
+
+void build(benchmark::State& state, std::string_view scene, const Builder& builder) {
+  const Workload& w = workload(scene, RayKind::coherent);
+  std::size_t bytes = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    Built built = builder.build(w.spheres);
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    bytes = built.bytes;
+    // built is released here, outside the measured interval
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(w.spheres.size()));
+  state.counters["spheres"] = static_cast<double>(w.spheres.size());
+  state.counters["threads"] = builder.threads;
+  state.counters["bytes_per_sphere"] =
+      static_cast<double>(bytes) / static_cast<double>(w.spheres.size());
+}
+
+std::string threads_suffix(int threads) {
+  return "/threads:" + std::to_string(threads);
+}
+
+}  // namespace
+
+void register_benchmarks(const std::vector<Implementation>& implementations,
+                         const std::vector<Builder>& builders) {
+  for (std::string_view scene : scene_names()) {
+    for (const Builder& b : builders) {
+      const std::string name =
+          "build/" + std::string(scene) + "/" + b.name + threads_suffix(b.threads);
+      benchmark::RegisterBenchmark(name.c_str(),
+                                   [scene, &b](benchmark::State& s) { build(s, scene, b); })
+          ->UseManualTime()
+          ->Unit(benchmark::kMillisecond);
+    }
+    for (RayKind kind : {RayKind::coherent, RayKind::incoherent}) {
+      for (const Implementation& impl : implementations) {
+        const std::string name = "rays/" + std::string(scene) + "/" +
+                                 std::string(ray_kind_name(kind)) + "/" + impl.name +
+                                 threads_suffix(impl.threads);
+        benchmark::RegisterBenchmark(name.c_str(),
+                                     [name, scene, kind, &impl](benchmark::State& s) {
+                                       trace_rays(s, name, scene, kind, impl);
+                                     })
+            ->UseRealTime()
+            ->Unit(benchmark::kMillisecond);
+      }
+    }
+  }
+}
+
+}  // namespace sphray::bench

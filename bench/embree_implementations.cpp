@@ -1,0 +1,182 @@
+// Intel Embree 3 on the same spheres and rays: RTC_GEOMETRY_TYPE_SPHERE_POINT, one float4
+// (x, y, z, r) per sphere, primID = sphray's sphere id.
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+
+#include "implementations.hpp"
+#include "threads.hpp"
+
+namespace sphray::bench {
+namespace {
+
+// Bytes Embree holds right now, kept up to date by its memory monitor callback.
+std::atomic<long long> embree_bytes{0};
+
+bool count_bytes(void*, ssize_t bytes, bool) {
+  embree_bytes += bytes;
+  return true;
+}
+
+void fail_on_error(void*, RTCError code, const char* message) {
+  std::fprintf(stderr, "Embree error %d: %s\n", static_cast<int>(code), message);
+  std::abort();  // a benchmark of a failed build would report nonsense
+}
+
+RTCDevice device() {
+  static const RTCDevice d = [] {
+    RTCDevice dev = rtcNewDevice(nullptr);
+    if (!dev) {
+      std::fprintf(stderr, "rtcNewDevice failed\n");
+      std::abort();
+    }
+    rtcSetDeviceErrorFunction(dev, fail_on_error, nullptr);
+    rtcSetDeviceMemoryMonitorFunction(dev, count_bytes, nullptr);
+    return dev;
+  }();
+  return d;
+}
+
+using SceneHandle = std::shared_ptr<RTCSceneTy>;
+
+// A committed scene holding the spheres, built on `threads` threads.
+SceneHandle build_scene(const SphereSoA& spheres, int threads) {
+  RTCScene scene = rtcNewScene(device());
+  RTCGeometry geometry = rtcNewGeometry(device(), RTC_GEOMETRY_TYPE_SPHERE_POINT);
+  auto* xyzr = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), spheres.size()));
+  for (std::uint32_t i = 0; i < spheres.size(); ++i) {
+    const Vec3 c = spheres.center(i);
+    xyzr[4 * i + 0] = c.x;
+    xyzr[4 * i + 1] = c.y;
+    xyzr[4 * i + 2] = c.z;
+    xyzr[4 * i + 3] = spheres.radius(i);
+  }
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometry(scene, geometry);
+  rtcReleaseGeometry(geometry);
+  run_on_threads(threads, [&] { rtcCommitScene(scene); });
+  return SceneHandle(scene, rtcReleaseScene);
+}
+
+// The scene tracing benchmarks use, built once per scene (both ray kinds share it).
+SceneHandle scene_for(const Workload& w) {
+  static std::string built_for;
+  static SceneHandle scene;
+  if (!scene || built_for != w.scene) {
+    scene.reset();
+    scene = build_scene(w.spheres, all_threads());
+    built_for = w.scene;
+  }
+  return scene;
+}
+
+RTCRayHit to_embree(const Ray& ray) {
+  RTCRayHit rh{};
+  rh.ray.org_x = ray.origin.x;
+  rh.ray.org_y = ray.origin.y;
+  rh.ray.org_z = ray.origin.z;
+  rh.ray.dir_x = ray.dir.x;
+  rh.ray.dir_y = ray.dir.y;
+  rh.ray.dir_z = ray.dir.z;
+  rh.ray.tnear = ray.tmin;
+  rh.ray.tfar = ray.tmax;
+  rh.ray.mask = ~0u;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  return rh;
+}
+
+Hit from_embree(const RTCRayHit& rh, const Ray& ray) {
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {ray.tmax, kNoHit};
+  return {rh.ray.tfar, rh.hit.primID};
+}
+
+void intersect1(RTCScene scene, std::span<const Ray> rays, std::span<Hit> hits) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    RTCRayHit rh = to_embree(rays[i]);
+    rtcIntersect1(scene, &context, &rh);
+    hits[i] = from_embree(rh, rays[i]);
+  }
+}
+
+// Packets of 8 consecutive rays: neighbouring pixels for camera rays.
+void intersect8(RTCScene scene, std::span<const Ray> rays, std::span<Hit> hits) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (std::size_t first = 0; first < rays.size(); first += 8) {
+    RTCRayHit8 packet{};
+    alignas(32) int valid[8] = {};
+    const std::size_t n = std::min<std::size_t>(8, rays.size() - first);
+    for (std::size_t k = 0; k < n; ++k) {
+      const RTCRayHit rh = to_embree(rays[first + k]);
+      valid[k] = -1;
+      packet.ray.org_x[k] = rh.ray.org_x;
+      packet.ray.org_y[k] = rh.ray.org_y;
+      packet.ray.org_z[k] = rh.ray.org_z;
+      packet.ray.dir_x[k] = rh.ray.dir_x;
+      packet.ray.dir_y[k] = rh.ray.dir_y;
+      packet.ray.dir_z[k] = rh.ray.dir_z;
+      packet.ray.tnear[k] = rh.ray.tnear;
+      packet.ray.tfar[k] = rh.ray.tfar;
+      packet.ray.mask[k] = rh.ray.mask;
+      packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect8(valid, scene, &context, &packet);
+    for (std::size_t k = 0; k < n; ++k) {
+      const Ray& ray = rays[first + k];
+      hits[first + k] = packet.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
+                            ? Hit{ray.tmax, kNoHit}
+                            : Hit{packet.ray.tfar[k], packet.hit.primID[k]};
+    }
+  }
+}
+
+using EmbreeTrace = void (*)(RTCScene, std::span<const Ray>, std::span<Hit>);
+
+Implementation embree(std::string name, EmbreeTrace fn, int threads) {
+  auto prepare = [fn, threads](const Workload& w) -> Trace {
+    return [fn, threads, scene = scene_for(w)](std::span<const Ray> rays, std::span<Hit> hits) {
+      if (threads == 1) return fn(scene.get(), rays, hits);
+      parallel_chunks(threads, rays.size(), [&](std::size_t begin, std::size_t end) {
+        fn(scene.get(), rays.subspan(begin, end - begin), hits.subspan(begin, end - begin));
+      });
+    };
+  };
+  return {std::move(name), threads, false, 0, prepare};
+}
+
+Builder embree_builder(int threads) {
+  auto build = [threads](const SphereSoA& spheres) {
+    const long long before = embree_bytes;
+    SceneHandle scene = build_scene(spheres, threads);
+    return Built{scene, static_cast<std::size_t>(embree_bytes - before)};
+  };
+  return {"embree", threads, build};
+}
+
+}  // namespace
+
+std::vector<Implementation> embree_implementations() {
+  std::vector<Implementation> impls;
+  impls.push_back(embree("embree-intersect1", intersect1, 1));
+  if (all_threads() > 1) impls.push_back(embree("embree-intersect1", intersect1, all_threads()));
+  if (rtcGetDeviceProperty(device(), RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED))
+    impls.push_back(embree("embree-intersect8", intersect8, 1));
+  return impls;
+}
+
+std::vector<Builder> embree_builders() {
+  std::vector<Builder> builders{embree_builder(1)};
+  if (all_threads() > 1) builders.push_back(embree_builder(all_threads()));
+  return builders;
+}
+
+}  // namespace sphray::bench

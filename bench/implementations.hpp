@@ -1,0 +1,61 @@
+// The implementations a run compares, each a way to turn rays into hits on a workload's
+// spheres. Adding one (the BVH, say) is a function returning more of these, appended in
+// all_implementations() and all_builders() in main.cpp.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "sphray/sphray.hpp"
+#include "workload.hpp"
+
+namespace sphray::bench {
+
+/// Traces rays into hits (hits.size() == rays.size()).
+using Trace = std::function<void(std::span<const Ray> rays, std::span<Hit> hits)>;
+
+struct Implementation {
+  std::string name;
+  int threads = 1;
+  /// Brute force tests every sphere for every ray: it traces Workload::brute_rays and reports
+  /// sphere tests per second; the others trace Workload::rays.
+  bool brute_force = true;
+  /// Spheres per SIMD batch (1 for scalar), for the cycles-per-batch counter; 0 if none.
+  std::size_t width = 0;
+  /// Readies the implementation for a workload outside the timed loop (building whatever it
+  /// needs, or finding it already built) and returns its tracer.
+  std::function<Trace(const Workload&)> prepare;
+};
+
+/// Something built from the spheres before tracing (an acceleration structure).
+struct Built {
+  std::shared_ptr<void> owner;  // keeps it alive; released outside the timed region
+  std::size_t bytes = 0;  // memory it allocates (any copy of the spheres included), 0 if unknown
+};
+
+struct Builder {
+  std::string name;
+  int threads = 1;
+  std::function<Built(const SphereSoA& spheres)> build;
+};
+
+/// The scalar reference, each instruction set's kernel per ray and as a stream, the
+/// dispatched query per ray, and the dispatched stream on one and on all threads.
+std::vector<Implementation> kernel_implementations();
+
+#if SPHRAY_BENCH_EMBREE
+/// Intel Embree 3: rtcIntersect1 on one and all threads, rtcIntersect8 packets.
+std::vector<Implementation> embree_implementations();
+std::vector<Builder> embree_builders();
+#endif
+
+/// Registers one benchmark per workload and implementation, and one per scene and builder,
+/// grouped by scene so each workload is made once.
+void register_benchmarks(const std::vector<Implementation>& implementations,
+                         const std::vector<Builder>& builders);
+
+}  // namespace sphray::bench

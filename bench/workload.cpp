@@ -1,0 +1,143 @@
+#include "workload.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <random>
+
+#include "sphray/render/camera.hpp"
+#include "sphray/render/scene.hpp"
+
+namespace sphray::bench {
+namespace {
+
+constexpr std::array<std::string_view, 9> kScenes = {
+    "single",     "three",       "rtiow-final",  "random:8",      "random:64",
+    "random:512", "random:4096", "random:65536", "random:1048576"};
+
+// Row-major camera rays of a side x side image: what the renderer traces for that image.
+std::vector<Ray> camera_rays(const render::CameraSpec& spec, int side) {
+  const render::Camera camera(spec, side, side);
+  std::vector<Ray> rays;
+  rays.reserve(static_cast<std::size_t>(side) * side);
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x)
+      rays.push_back(camera.ray(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
+  return rays;
+}
+
+int image_side(std::size_t rays) {
+  return static_cast<int>(std::lround(std::sqrt(static_cast<double>(rays))));
+}
+
+Vec3 min3(Vec3 a, Vec3 b) {
+  return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
+}
+Vec3 max3(Vec3 a, Vec3 b) {
+  return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
+}
+
+float median_radius(const SphereSoA& spheres) {
+  std::vector<float> radii(spheres.size());
+  for (std::uint32_t i = 0; i < spheres.size(); ++i)
+    radii[i] = spheres.radius(i);
+  auto middle = radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2);
+  std::nth_element(radii.begin(), middle, radii.end());
+  return *middle;
+}
+
+// kSampleRays rays drawn without replacement, so the sample spans the whole image.
+std::vector<Ray> draw_sample(const std::vector<Ray>& rays) {
+  if (rays.size() <= kSampleRays) return rays;
+  std::vector<Ray> sample;
+  std::sample(rays.begin(), rays.end(), std::back_inserter(sample), kSampleRays,
+              std::mt19937(12345));
+  return sample;
+}
+
+std::vector<Hit> reference_hits(SphereView view, const std::vector<Ray>& rays) {
+  std::vector<Hit> hits(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    hits[i] = scalar::intersect(view, rays[i]);
+  return hits;
+}
+
+std::unique_ptr<Workload> make_workload(std::string_view scene, RayKind kind) {
+  auto w = std::make_unique<Workload>();
+  w->scene = std::string(scene);
+  w->kind = kind;
+  render::Scene preset = render::make_preset(w->scene);
+  w->spheres = std::move(preset.spheres);
+  const std::size_t brute = brute_ray_count(w->spheres.size());
+  if (kind == RayKind::coherent) {
+    w->rays = camera_rays(preset.camera, image_side(kFullRays));
+    w->brute_rays = brute == kFullRays ? w->rays : camera_rays(preset.camera, image_side(brute));
+  } else {
+    w->rays = random_rays(scene_box(w->spheres), kFullRays, 2024);
+    w->brute_rays.assign(w->rays.begin(), w->rays.begin() + static_cast<std::ptrdiff_t>(brute));
+  }
+  w->sample = draw_sample(w->brute_rays);
+  w->expected = reference_hits(w->view(), w->sample);
+  return w;
+}
+
+}  // namespace
+
+std::string_view ray_kind_name(RayKind kind) {
+  return kind == RayKind::coherent ? "coherent" : "incoherent";
+}
+
+std::span<const std::string_view> scene_names() {
+  return kScenes;
+}
+
+const Workload& workload(std::string_view scene, RayKind kind) {
+  static std::unique_ptr<Workload> current;
+  if (!current || current->scene != scene || current->kind != kind) {
+    current.reset();  // free the old one first: two million-sphere workloads need not coexist
+    current = make_workload(scene, kind);
+  }
+  return *current;
+}
+
+std::size_t brute_ray_count(std::size_t spheres) {
+  std::size_t rays = kFullRays;
+  while (rays > kMinBruteRays && rays * spheres > kBruteTestBudget)
+    rays /= 4;
+  return rays;
+}
+
+Box scene_box(const SphereSoA& spheres) {
+  const float limit = 10.0f * median_radius(spheres);
+  Box box{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+  for (std::uint32_t i = 0; i < spheres.size(); ++i) {
+    const float r = spheres.radius(i);
+    if (r > limit) continue;
+    const Vec3 extent{r, r, r};
+    box.lo = min3(box.lo, spheres.center(i) - extent);
+    box.hi = max3(box.hi, spheres.center(i) + extent);
+  }
+  return box;
+}
+
+std::vector<Ray> random_rays(const Box& box, std::size_t count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::normal_distribution<float> gauss(0.0f, 1.0f);
+  auto lerp = [&](float lo, float hi) { return lo + unit(rng) * (hi - lo); };
+  std::vector<Ray> rays(count);
+  for (Ray& ray : rays) {
+    ray.origin = {lerp(box.lo.x, box.hi.x), lerp(box.lo.y, box.hi.y), lerp(box.lo.z, box.hi.z)};
+    // A normalised Gaussian vector is uniform on the sphere; redraw the (vanishingly rare)
+    // near-zero ones rather than normalise noise.
+    Vec3 d;
+    do {
+      d = {gauss(rng), gauss(rng), gauss(rng)};
+    } while (length_squared(d) < 1e-6f);
+    ray.dir = normalize(d);
+  }
+  return rays;
+}
+
+}  // namespace sphray::bench
