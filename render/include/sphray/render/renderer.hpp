@@ -1,0 +1,60 @@
+// The renderer: camera rays per 16x16 tile, handed to the kernel as one stream, shaded from the
+// hits. Tiles run in parallel on oneTBB; every sample's jitter comes from its pixel, sample
+// index and the seed alone, so the image is the same bit for bit whatever the thread count.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sphray/render/scene.hpp"
+
+namespace sphray::render {
+
+enum class Mode { normals, flat, depth, id, shaded };
+
+/// "normals", "flat", "depth", "id", "shaded", in that order.
+std::vector<std::string> mode_names();
+std::string_view mode_name(Mode mode);
+std::optional<Mode> parse_mode(std::string_view name);
+
+struct RenderOptions {
+  Mode mode = Mode::normals;
+  int width = 400, height = 225;
+  int spp = 1;             // samples per pixel; 1 samples each pixel's centre, more are jittered
+  std::uint64_t seed = 0;  // the jitter's seed
+  int threads = 0;         // 0: as many as oneTBB offers
+};
+
+/// 8-bit RGB, rows top to bottom, no padding.
+struct Image {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;
+};
+
+struct RenderStats {
+  double seconds = 0;             // wall time of the tiles, scene and output excluded
+  std::uint64_t camera_rays = 0;  // width * height * spp
+  std::uint64_t shadow_rays = 0;  // occlusion queries (shaded mode)
+};
+
+/// Called from worker threads after each tile with the tiles finished so far and the total.
+using Progress = std::function<void(std::size_t done, std::size_t total)>;
+
+inline constexpr int kTileSize = 16;
+
+/// Renders scene (its camera, the size in options). Throws SceneError if the camera cannot be
+/// placed, std::invalid_argument for a size, spp or thread count out of range.
+Image render(const Scene& scene, const RenderOptions& options, const Progress& progress = {},
+             RenderStats* stats = nullptr);
+
+/// The shading of one ray's hit, exposed for tests and for embedding in other loops.
+Vec3 sky(const Ray& ray);
+/// A colour component in [0,1] to a byte as the book writes it: int(255.999 * c), clamped.
+std::uint8_t to_byte(float c);
+
+}  // namespace sphray::render

@@ -1,0 +1,197 @@
+// The sphray command: render, scenes, info. A thin shell over sphray::render; every failure is
+// one line on stderr and an exit status: 2 for bad usage or input, 1 for an I/O failure.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <mutex>
+#include <string>
+
+#include "sphray/render/image_file.hpp"
+#include "sphray/render/renderer.hpp"
+#include "sphray/render/scene.hpp"
+#include "sphray/sphray.hpp"
+
+namespace {
+
+using namespace sphray::render;
+
+constexpr int kExitIo = 1;
+constexpr int kExitUsage = 2;
+
+struct RenderArgs {
+  std::string scene = "rtiow-final";
+  std::string mode = "normals";
+  int width = 0, height = 0;  // 0: the scene's own size
+  int spp = 4;
+  int threads = 0;
+  std::uint64_t seed = 0;
+  std::string output = "sphray.png";
+  bool quiet = false;
+};
+
+// A progress bar on stderr, shown only on a terminal and only once the render has run for half
+// a second, redrawn at most ten times a second. Called from worker threads.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled) : enabled_(enabled) {}
+  ~ProgressBar() {
+    if (shown_) std::fputs("\r\033[K", stderr);
+  }
+
+  void update(std::size_t done, std::size_t total) {
+    if (!enabled_) return;
+    std::unique_lock lock(mutex_, std::try_to_lock);
+    if (!lock.owns_lock()) return;  // another thread is drawing; skip this one
+    auto now = Clock::now();
+    if (now - start_ < std::chrono::milliseconds(500)) return;
+    if (shown_ && now - last_ < std::chrono::milliseconds(100) && done != total) return;
+    last_ = now;
+    shown_ = true;
+    constexpr int kWidth = 40;
+    int filled = static_cast<int>(kWidth * done / total);
+    std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(filled, '#').c_str(),
+                 std::string(kWidth - filled, ' ').c_str(), static_cast<int>(100 * done / total));
+    std::fflush(stderr);
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  bool enabled_;
+  bool shown_ = false;
+  std::mutex mutex_;
+  Clock::time_point start_ = Clock::now();
+  Clock::time_point last_{};
+};
+
+std::string format_rate(double per_second) {
+  char text[32];
+  if (per_second >= 1e6) {
+    std::snprintf(text, sizeof text, "%.2f Mrays/s", per_second / 1e6);
+  } else {
+    std::snprintf(text, sizeof text, "%.0f rays/s", per_second);
+  }
+  return text;
+}
+
+void print_summary(const RenderArgs& args, const RenderOptions& options, const RenderStats& s) {
+  std::uint64_t rays = s.camera_rays + s.shadow_rays;
+  double rate = s.seconds > 0 ? static_cast<double>(rays) / s.seconds : 0.0;
+  std::printf("wrote %s: %dx%d, %d spp, %s, %.3f s, %s (%llu camera + %llu shadow rays)\n",
+              args.output.c_str(), options.width, options.height, options.spp, args.mode.c_str(),
+              s.seconds, format_rate(rate).c_str(), static_cast<unsigned long long>(s.camera_rays),
+              static_cast<unsigned long long>(s.shadow_rays));
+}
+
+int run_render(const RenderArgs& args) {
+  // Everything that can be refused is refused before the scene is built or a ray is traced.
+  if (!image_format_for(args.output)) {
+    std::fprintf(stderr, "sphray: %s: expected an output file ending in .png or .ppm\n",
+                 args.output.c_str());
+    return kExitUsage;
+  }
+  try {
+    Scene scene = load_scene_or_preset(args.scene);
+    RenderOptions options;
+    options.mode = *parse_mode(args.mode);  // CLI11 checked the name
+    options.width = args.width > 0 ? args.width : scene.width;
+    options.height = args.height > 0 ? args.height : scene.height;
+    options.spp = args.spp;
+    options.threads = args.threads;
+    options.seed = args.seed;
+    PendingImageFile output(args.output);
+    RenderStats stats;
+    Image image;
+    {
+      ProgressBar bar(!args.quiet && ::isatty(STDERR_FILENO));
+      image = render(
+          scene, options, [&bar](std::size_t done, std::size_t total) { bar.update(done, total); },
+          &stats);
+    }
+    output.commit(image);
+    if (!args.quiet) print_summary(args, options, stats);
+    return 0;
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "sphray: %s\n", e.what());
+    return kExitUsage;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "sphray: %s\n", e.what());
+    return kExitUsage;
+  } catch (const IoError& e) {
+    std::fprintf(stderr, "sphray: %s\n", e.what());
+    return kExitIo;
+  }
+}
+
+int run_scenes() {
+  std::vector<std::string> names = preset_names();
+  std::vector<std::string> descriptions = preset_descriptions();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    std::printf("%-12s %s\n", names[i].c_str(), descriptions[i].c_str());
+  }
+  std::printf("%-12s a scene file (format: docs/scenes.md)\n", "FILE.json");
+  return 0;
+}
+
+int run_info() {
+  std::printf("sphray %s\n", sphray::kVersion);
+  std::printf("instruction set: %s\n", std::string(sphray::isa_name(sphray::active_isa())).c_str());
+  std::string supported;
+  for (sphray::Isa isa : sphray::supported_isas()) {
+    supported += (supported.empty() ? "" : ", ") + std::string(sphray::isa_name(isa));
+  }
+  std::printf("supported here: %s (choose with SPHRAY_ISA)\n", supported.c_str());
+  return 0;
+}
+
+void add_render_options(CLI::App& render, RenderArgs& args) {
+  render.add_option("--scene,-s", args.scene, "A preset (see `sphray scenes`) or a .json file")
+      ->capture_default_str();
+  render.add_option("--mode,-m", args.mode, "What to show")
+      ->check(CLI::IsMember(mode_names()))
+      ->capture_default_str();
+  render.add_option("--width,-W", args.width, "Image width (default: the scene's)")
+      ->check(CLI::Range(1, kMaxImageSide));
+  render.add_option("--height,-H", args.height, "Image height (default: the scene's)")
+      ->check(CLI::Range(1, kMaxImageSide));
+  render.add_option("--spp", args.spp, "Samples per pixel (1: pixel centres, more: jittered)")
+      ->check(CLI::Range(1, 65536))
+      ->capture_default_str();
+  render.add_option("--threads,-j", args.threads, "Worker threads (0: all cores)")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  render.add_option("--seed", args.seed, "Seed of the sample jitter")->capture_default_str();
+  render.add_option("-o,--output", args.output, "Output image, .png or .ppm")
+      ->capture_default_str();
+  render.add_flag("--quiet,-q", args.quiet, "No progress bar, no summary line");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"sphray: render spheres with the sphray kernel", "sphray"};
+  app.set_version_flag("--version", std::string(sphray::kVersion));
+  app.require_subcommand(0, 1);
+  RenderArgs args;
+  CLI::App* render = app.add_subcommand("render", "Render a scene to a PNG or PPM image");
+  add_render_options(*render, args);
+  CLI::App* scenes = app.add_subcommand("scenes", "List the preset scenes");
+  CLI::App* info = app.add_subcommand("info", "Print the version and the instruction set in use");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help, --version
+  } catch (const CLI::ParseError& e) {
+    std::string message = e.what();
+    std::fprintf(stderr, "sphray: %s (see sphray --help)\n",
+                 message.substr(0, message.find('\n')).c_str());
+    return kExitUsage;
+  }
+  if (*scenes) return run_scenes();
+  if (*info) return run_info();
+  if (*render) return run_render(args);
+  std::cout << app.help();
+  return kExitUsage;
+}
