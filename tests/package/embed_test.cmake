@@ -1,0 +1,21 @@
+# Installs sphray to a temporary prefix, moves the prefix elsewhere (the package must be
+# relocatable), then configures, builds and runs docs/examples/embed against it.
+# Arguments: -DBINARY_DIR=<sphray build> -DEXAMPLE_DIR=<docs/examples/embed> -DWORK_DIR=<scratch>
+#            -DGENERATOR=<generator>
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  message("${out}")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}")
+  endif()
+endfunction()
+
+run(${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${WORK_DIR}/staging)
+file(RENAME ${WORK_DIR}/staging ${WORK_DIR}/moved)
+run(${CMAKE_COMMAND} -S ${EXAMPLE_DIR} -B ${WORK_DIR}/build -G ${GENERATOR}
+    -DCMAKE_PREFIX_PATH=${WORK_DIR}/moved -DCMAKE_BUILD_TYPE=Release)
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
+run(${WORK_DIR}/build/embed)
