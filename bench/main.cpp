@@ -44,6 +44,8 @@ std::string cpuinfo(const std::string& key) {
 
 void describe_machine() {
   benchmark::AddCustomContext("cpu_model", cpuinfo("model name"));
+  benchmark::AddCustomContext("cpu_signature", cpuinfo("cpu family") + "/" + cpuinfo("model\t") +
+                                                   "/" + cpuinfo("stepping"));
   benchmark::AddCustomContext("cpu_flags", cpuinfo("flags"));
   benchmark::AddCustomContext("threads_all", std::to_string(all_threads()));
   std::string isas;

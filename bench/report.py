@@ -1,0 +1,559 @@
+#!/usr/bin/env python3
+"""Turns the JSON of a sphray_bench run into docs/performance.md and its plots.
+
+    bench/report.py RUN.json [--command "how the run was made"] [--docs docs]
+
+Needs Python 3 and matplotlib (Debian: python3-matplotlib). Reads bench/kernel_analysis.md
+(the hand count of the kernel's inner loop) and bench/kernel_bounds.json (its bounds) from
+beside this script and puts them in the page next to the measured cycles per batch.
+"""
+
+import argparse
+import json
+import math
+import re
+import statistics
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only, no display
+import matplotlib.pyplot as plt  # noqa: E402
+
+HERE = Path(__file__).resolve().parent
+KINDS = ("coherent", "incoherent")
+KIND_TITLES = {
+    "coherent": "Coherent rays (a 512 x 512 pinhole camera framing the scene)",
+    "incoherent": "Incoherent rays (random origins in the scene box, uniform directions)",
+}
+ISAS = ("sse4.2", "avx2", "avx512", "neon")
+# The issue's targets, restated where they are checked.
+TARGET_SPEEDUP = {"avx2": 6.0, "avx512": 9.0}
+TARGET_SPEEDUP_SCENES = (512, 65536)
+TINY_SCENES = (1, 8)
+SMALL_SCENES = (1, 64)
+TARGET_OVER_EMBREE = 3.0
+TARGET_THREAD_SCALING = 1.8
+TARGET_BOUND_FACTOR = 1.5
+SIMD_FLAGS = ("sse4_2", "avx", "avx2", "fma", "avx512f", "avx512dq", "avx512bw", "avx512vl",
+              "avx512_fp16", "amx_tile", "neon", "asimd")
+
+
+@dataclass
+class Row:
+    """One benchmark's result."""
+
+    group: str  # "rays", "build" or "clock"
+    scene: str = ""
+    kind: str = ""
+    impl: str = ""
+    threads: int = 1
+    values: dict = field(default_factory=dict)
+    error: str = ""
+
+    def get(self, key, default=None):
+        return self.values.get(key, default)
+
+
+def parse_name(name):
+    """'rays/<scene>/<kind>/<impl>/threads:<n>/real_time' and 'build/<scene>/<builder>/threads:<n>/...'."""
+    parts = [p for p in name.split("/") if p not in ("real_time", "manual_time")]
+    threads = 1
+    if parts and parts[-1].startswith("threads:"):
+        threads = int(parts.pop()[len("threads:"):])
+    if parts[0] == "rays" and len(parts) == 4:
+        return Row("rays", scene=parts[1], kind=parts[2], impl=parts[3], threads=threads)
+    if parts[0] == "build" and len(parts) == 3:
+        return Row("build", scene=parts[1], impl=parts[2], threads=threads)
+    if parts[0] == "clock":
+        return Row("clock")
+    return None
+
+
+def load_rows(data):
+    """The rows of a run; with repetitions, their medians."""
+    by_name = {}
+    for b in data["benchmarks"]:
+        if b.get("run_type") == "aggregate" and b.get("aggregate_name") != "median":
+            continue
+        name = b.get("run_name", b["name"])
+        row = parse_name(name)
+        if row is None:
+            continue
+        row.values = b
+        row.error = b.get("error_message", "") if b.get("error_occurred") else ""
+        # A median replaces the repetitions it summarises; errors always stay.
+        if b.get("run_type") == "aggregate" or name not in by_name or row.error:
+            by_name[name] = row
+    return list(by_name.values())
+
+
+class Results:
+    def __init__(self, rows):
+        self.rows = rows
+        self.rays = {(r.scene, r.kind, r.impl, r.threads): r for r in rows if r.group == "rays"}
+        self.builds = [r for r in rows if r.group == "build"]
+        self.clock = next((r for r in rows if r.group == "clock" and not r.error), None)
+        self.scenes = []
+        for r in rows:
+            if r.group == "rays" and r.scene not in self.scenes:
+                self.scenes.append(r.scene)
+        self.spheres = {}
+        for r in rows:
+            if r.group == "rays" and r.get("spheres") is not None:
+                self.spheres[r.scene] = int(r.get("spheres"))
+        self.all_threads = max((r.threads for r in rows if r.group == "rays"), default=1)
+
+    def row(self, scene, kind, impl, threads=1):
+        r = self.rays.get((scene, kind, impl, threads))
+        return r if r is not None and not r.error else None
+
+    def rate(self, scene, kind, impl, threads=1, key="items_per_second"):
+        r = self.row(scene, kind, impl, threads)
+        return r.get(key) if r is not None else None
+
+    def isas(self):
+        present = {r.impl for r in self.rays.values()}
+        return [i for i in ISAS if i in present]
+
+    def has(self, impl, threads=1):
+        return any(k[2] == impl and k[3] == threads for k in self.rays)
+
+    def random_scenes(self):
+        return [s for s in self.scenes if s.startswith("random:")]
+
+    def scenes_between(self, lo, hi, random_only=False):
+        pool = self.random_scenes() if random_only else self.scenes
+        return [s for s in pool if lo <= self.spheres.get(s, 0) <= hi]
+
+    def core_per_tsc(self):
+        if self.clock is None:
+            return None
+        return self.clock.get("core_hz") / self.clock.get("tsc_hz")
+
+
+def ratio(a, b):
+    return a / b if a is not None and b not in (None, 0) else None
+
+
+def fmt_rate(x):
+    """Rays per second with a unit prefix and three significant digits."""
+    if x is None:
+        return "–"
+    for scale, prefix in ((1e9, "G"), (1e6, "M"), (1e3, "k")):
+        if x >= scale:
+            return f"{x / scale:.3g} {prefix}"
+    return f"{x:.3g}"
+
+
+def fmt_ratio(x):
+    return "–" if x is None else f"{x:.2f}x"
+
+
+def fmt_num(x, digits=3):
+    return "–" if x is None else f"{x:.{digits}g}"
+
+
+def table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
+    lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+# --- columns -------------------------------------------------------------------------------
+
+def columns(res):
+    """(label, impl, threads) of every implementation a rays table shows, in reading order."""
+    cols = [("scalar", "scalar", 1)]
+    cols += [(isa, isa, 1) for isa in res.isas()]
+    cols += [("dispatch", "dispatch", 1), ("dispatch stream", "dispatch-stream", 1)]
+    n = res.all_threads
+    if n > 1:
+        cols.append((f"dispatch stream, {n} threads", "dispatch-stream", n))
+    for impl in ("bvh", "bvh-stream"):
+        if res.has(impl):
+            cols.append((impl.replace("-", " "), impl, 1))
+    if n > 1 and res.has("bvh-stream", n):
+        cols.append((f"bvh stream, {n} threads", "bvh-stream", n))
+    if res.has("embree-intersect1"):
+        cols.append(("Embree rtcIntersect1", "embree-intersect1", 1))
+        if n > 1:
+            cols.append((f"Embree rtcIntersect1, {n} threads", "embree-intersect1", n))
+    if res.has("embree-intersect8"):
+        cols.append(("Embree rtcIntersect8", "embree-intersect8", 1))
+    return [c for c in cols if res.has(c[1], c[2])]
+
+
+def scene_label(res, scene):
+    return f"{scene} ({res.spheres.get(scene, '?')})"
+
+
+def brute_rays(res, scene, kind):
+    r = res.row(scene, kind, "scalar")
+    return int(r.get("rays")) if r is not None else None
+
+
+# --- sections ------------------------------------------------------------------------------
+
+def machine_section(ctx, command):
+    flags = set(ctx.get("cpu_flags", "").split())
+    simd = " ".join(f for f in SIMD_FLAGS if f in flags) or "none of note"
+    caches = ", ".join(
+        f"L{c['level']} {c['type'].lower()} {c['size'] // 1024} KiB" + (f" (shared by {c['num_sharing']})" if c.get("num_sharing", 1) > 1 else "")
+        for c in ctx.get("caches", []))
+    load = ", ".join(f"{x:.2f}" for x in ctx.get("load_avg", []))
+    lines = [
+        "## The machine and the run",
+        "",
+        f"- CPU: {ctx.get('cpu_model', 'unknown')} (family/model/stepping {ctx.get('cpu_signature', '?')}), "
+        f"{ctx.get('num_cpus', '?')} logical CPUs, time stamp counter {ctx.get('mhz_per_cpu', '?')} MHz",
+        f"- SIMD flags: {simd}",
+        f"- Caches: {caches}",
+        f"- sphray kernels this machine runs: {ctx.get('sphray_isas', '?')} (dispatched: {ctx.get('sphray_active_isa', '?')}); "
+        f"\"all threads\" = {ctx.get('threads_all', '?')}",
+        f"- Intel Embree: {ctx.get('embree_version', 'not built in')}",
+        f"- Run: {ctx.get('date', '?')}, load average at start {load}",
+        f"- Command: `{command}`",
+    ]
+    return "\n".join(lines)
+
+
+def rays_tables(res):
+    cols = columns(res)
+    out = ["## Rays per second", "",
+           "Closest hit per ray, rays per second (k = 10^3, M = 10^6). Brute force traces fewer rays on",
+           "large scenes (column \"brute rays\"); the other columns trace all 262,144. Single thread unless",
+           "the column says otherwise. A dash: not run, or failed its check (see Failures)."]
+    for kind in KINDS:
+        out += ["", f"### {KIND_TITLES[kind]}", ""]
+        header = ["scene (spheres)", "brute rays"] + [c[0] for c in cols] + ["hit fraction"]
+        rows = []
+        for scene in res.scenes:
+            hit = res.rate(scene, kind, "scalar", key="hit_fraction")
+            rows.append([scene_label(res, scene), brute_rays(res, scene, kind) or "–"]
+                        + [fmt_rate(res.rate(scene, kind, impl, t)) for _, impl, t in cols]
+                        + [fmt_num(hit, 2)])
+        out.append(table(header, rows))
+    return "\n".join(out)
+
+
+def ratio_tables(res):
+    n = res.all_threads
+    out = ["## Ratios", "",
+           "Speed-up over the scalar reference is in sphere tests per second (brute force, one thread);",
+           "\"dispatch / Embree\" compares the dispatched query per ray with rtcIntersect1, both on one",
+           "thread; the thread columns divide the rate on all threads by the rate on one."]
+    for kind in KINDS:
+        header = ["scene (spheres)"] + [f"{isa} / scalar" for isa in res.isas()] + ["dispatch / scalar"]
+        if res.has("embree-intersect1"):
+            header.append("dispatch / Embree")
+            if res.has("bvh"):
+                header.append("bvh / Embree")
+        if n > 1:
+            header.append(f"stream {n} threads / 1")
+            if res.has("embree-intersect1", n):
+                header.append(f"Embree {n} threads / 1")
+        rows = []
+        for scene in res.scenes:
+            tests = lambda impl: res.rate(scene, kind, impl, key="sphere_tests_per_second")  # noqa: E731
+            row = [scene_label(res, scene)]
+            row += [fmt_ratio(ratio(tests(isa), tests("scalar"))) for isa in res.isas()]
+            row.append(fmt_ratio(ratio(tests("dispatch"), tests("scalar"))))
+            if res.has("embree-intersect1"):
+                embree = res.rate(scene, kind, "embree-intersect1")
+                row.append(fmt_ratio(ratio(res.rate(scene, kind, "dispatch"), embree)))
+                if res.has("bvh"):
+                    row.append(fmt_ratio(ratio(res.rate(scene, kind, "bvh"), embree)))
+            if n > 1:
+                row.append(fmt_ratio(ratio(res.rate(scene, kind, "dispatch-stream", n),
+                                           res.rate(scene, kind, "dispatch-stream", 1))))
+                if res.has("embree-intersect1", n):
+                    row.append(fmt_ratio(ratio(res.rate(scene, kind, "embree-intersect1", n),
+                                               res.rate(scene, kind, "embree-intersect1", 1))))
+            rows.append(row)
+        out += ["", f"### {kind.capitalize()} rays", "", table(header, rows)]
+    return "\n".join(out)
+
+
+def stream_table(res):
+    """Each instruction set's own stream entry point next to its per-ray query."""
+    out = ["## Per-ray query and stream entry point", "",
+           "Each kernel's `intersect_stream` (one thread) divided by its per-ray `intersect` on the same",
+           "rays: the stream saves only the call per ray, so this stays near 1.", ""]
+    header = ["scene (spheres)"] + [f"{isa} {kind}" for kind in KINDS for isa in res.isas()]
+    rows = []
+    for scene in res.scenes:
+        rows.append([scene_label(res, scene)] + [
+            fmt_ratio(ratio(res.rate(scene, kind, f"{isa}-stream"), res.rate(scene, kind, isa)))
+            for kind in KINDS for isa in res.isas()])
+    return "\n".join(out + [table(header, rows)])
+
+
+def build_table(res):
+    if not res.builds:
+        return ""
+    out = ["## Build times", "",
+           "Time to build what an implementation needs before tracing, per scene, and the memory it",
+           "holds (for Embree: the bytes its memory monitor reports, its own float4 copy of the spheres",
+           "included). Brute force needs nothing built.", ""]
+    header = ["scene (spheres)", "structure", "threads", "time", "spheres per second", "bytes per sphere"]
+    rows = []
+    for r in res.builds:
+        if r.error:
+            rows.append([scene_label(res, r.scene), r.impl, r.threads, "failed", "–", "–"])
+            continue
+        ms = r.get("real_time") if r.get("time_unit") == "ms" else None
+        rows.append([scene_label(res, r.scene), r.impl, r.threads,
+                     f"{ms:.3g} ms" if ms is not None else "–",
+                     fmt_rate(r.get("items_per_second")), fmt_num(r.get("bytes_per_sphere"))])
+    return "\n".join(out + [table(header, rows)])
+
+
+def measured_cycles(res, isa, scenes):
+    """Core cycles per batch of `isa` per (scene, kind): TSC ticks per sphere x width x core/TSC."""
+    k = res.core_per_tsc()
+    out = {}
+    for scene in scenes:
+        for kind in KINDS:
+            r = res.row(scene, kind, isa)
+            if r is None or r.get("tsc_per_sphere") is None or k is None:
+                continue
+            out[(scene, kind)] = r.get("tsc_per_sphere") * r.get("width") * k
+    return out
+
+
+def load_bounds():
+    path = HERE / "kernel_bounds.json"
+    return json.loads(path.read_text()) if path.exists() else {}
+
+
+def cycles_section(res):
+    bounds = load_bounds()
+    scenes = res.scenes_between(*TARGET_SPEEDUP_SCENES, random_only=True)
+    k = res.core_per_tsc()
+    out = ["## Cycles per batch", ""]
+    if k is None:
+        return "\n".join(out + ["(no clock measurement in this run)"])
+    out += [f"The `clock` benchmark measured the core at {res.clock.get('core_hz') / 1e9:.2f} GHz against a time",
+            f"stamp counter of {res.clock.get('tsc_hz') / 1e9:.2f} GHz (a chain of dependent multiplies, 3 cycles each),",
+            "so core cycles = TSC ticks x " + f"{k:.3f}. Cycles per batch = TSC ticks per sphere test x batch width x that",
+            "factor, single thread, per-ray query. AVX-512 code may run at a lower clock than the chain did,",
+            "which would make its figure an overestimate of the cycles it really spends.", ""]
+    header = ["kernel", "width"] + [f"{scene_label(res, s)} {kind}" for s in scenes for kind in KINDS] + ["bound", "measured / bound"]
+    rows = []
+    for isa in res.isas():
+        cyc = measured_cycles(res, isa, scenes)
+        if not cyc:
+            continue
+        width = int(next(res.row(s, kd, isa).get("width") for (s, kd) in cyc))
+        bound = bounds.get(isa, {}).get("cycles_per_batch")
+        worst = max(cyc.values())
+        rows.append([isa, width] + [fmt_num(cyc.get((s, kd))) for s in scenes for kd in KINDS]
+                    + [fmt_num(bound), f"{fmt_num(min(cyc.values()) / bound)}–{fmt_num(worst / bound)}" if bound else "–"])
+    out.append(table(header, rows))
+    analysis = HERE / "kernel_analysis.md"
+    if analysis.exists():
+        out += ["", analysis.read_text().strip()]
+    return "\n".join(out)
+
+
+# --- targets -------------------------------------------------------------------------------
+
+def verdict(ok):
+    return "met" if ok else "**missed**"
+
+
+def targets_section(res):
+    n = res.all_threads
+    lines = ["## Targets", "",
+             "Checked on this run's figures (the machine's noise moves single ratios by several percent).", ""]
+    header = ["target", "worst case in this run", "verdict"]
+    rows = []
+    scenes = res.scenes_between(*TARGET_SPEEDUP_SCENES, random_only=True)
+    for isa, want in TARGET_SPEEDUP.items():
+        vals = [(ratio(res.rate(s, kd, isa, key="sphere_tests_per_second"),
+                       res.rate(s, kd, "scalar", key="sphere_tests_per_second")), s, kd)
+                for s in scenes for kd in KINDS]
+        vals = [v for v in vals if v[0] is not None]
+        if vals:
+            worst = min(vals)
+            rows.append([f"{isa} >= {want:g}x scalar per sphere test, {TARGET_SPEEDUP_SCENES[0]}–{TARGET_SPEEDUP_SCENES[1]} spheres",
+                         f"{worst[0]:.2f}x ({worst[1]}, {worst[2]})", verdict(worst[0] >= want)])
+    bounds = load_bounds()
+    for isa in res.isas():
+        bound = bounds.get(isa, {}).get("cycles_per_batch")
+        cyc = measured_cycles(res, isa, scenes)
+        if bound and cyc:
+            (s, kd), worst = max(cyc.items(), key=lambda kv: kv[1])
+            rows.append([f"{isa} cycles per batch <= {TARGET_BOUND_FACTOR}x the bound ({bound:g})",
+                         f"{worst:.3g} = {worst / bound:.2f}x ({s}, {kd})", verdict(worst <= TARGET_BOUND_FACTOR * bound)])
+    for label, impl in (("dispatched query per ray", "dispatch"), ("dispatched stream", "dispatch-stream")):
+        vals = [(ratio(res.rate(s, kd, impl), res.rate(s, kd, "scalar")), s, kd)
+                for s in res.scenes_between(*TINY_SCENES) for kd in KINDS]
+        vals = [v for v in vals if v[0] is not None]
+        if vals:
+            worst = min(vals)
+            rows.append([f"{label} never slower than scalar, {TINY_SCENES[0]}–{TINY_SCENES[1]} spheres",
+                         f"{worst[0]:.2f}x ({worst[1]}, {worst[2]})", verdict(worst[0] >= 1.0)])
+    if res.has("embree-intersect1"):
+        vals = [(ratio(res.rate(s, kd, "dispatch"), res.rate(s, kd, "embree-intersect1")), s, kd)
+                for s in res.scenes_between(*SMALL_SCENES) for kd in KINDS]
+        vals = [v for v in vals if v[0] is not None]
+        if vals:
+            worst = min(vals)
+            rows.append([f"dispatched query >= {TARGET_OVER_EMBREE:g}x Embree rtcIntersect1, {SMALL_SCENES[0]}–{SMALL_SCENES[1]} spheres",
+                         f"{worst[0]:.2f}x ({worst[1]}, {worst[2]})", verdict(worst[0] >= TARGET_OVER_EMBREE)])
+    if n > 1:
+        vals = [(ratio(res.rate(s, kd, "dispatch-stream", n), res.rate(s, kd, "dispatch-stream", 1)), s, kd)
+                for s in res.scenes for kd in KINDS]
+        vals = [v for v in vals if v[0] is not None]
+        if vals:
+            worst = min(vals)
+            med = statistics.median(v[0] for v in vals)
+            rows.append([f"stream on {n} threads >= {TARGET_THREAD_SCALING}x one thread",
+                         f"{worst[0]:.2f}x ({worst[1]}, {worst[2]}); median {med:.2f}x", verdict(worst[0] >= TARGET_THREAD_SCALING)])
+    return "\n".join(lines + [table(header, rows)])
+
+
+def failures_section(res):
+    failed = [r for r in res.rows if r.error]
+    ties = [r for r in res.rays.values() if not r.error and (r.get("id_ties") or 0) > 0]
+    lines = ["## Agreement with the scalar reference", "",
+             "Before it is timed, every implementation traces a sample of up to 1,024 of the brute-force rays",
+             "of its workload, and each hit is compared with the scalar reference's: both miss, or both hit",
+             "the same sphere with t within 1e-3 x max(1, |t|). A disagreement marks the benchmark as an",
+             "error, so it has no figure above."]
+    if failed:
+        lines += ["", "Failures in this run:", ""]
+        lines += [f"- `{r.values['name']}`: {r.error}" for r in failed]
+    else:
+        lines += ["", "Every implementation agreed with the reference on every workload in this run."]
+    if ties:
+        lines += ["", "Equal-t hits on different spheres (ties decided by rounding, accepted):", ""]
+        lines += [f"- `{r.values['name']}`: {int(r.get('id_ties'))}" for r in ties]
+    return "\n".join(lines)
+
+
+# --- plots ---------------------------------------------------------------------------------
+
+def plot_rates(res, kind, path):
+    scenes = res.random_scenes()
+    x = [res.spheres[s] for s in scenes]
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for label, impl, t in columns(res):
+        if impl in ("dispatch", "dispatch-stream") and t == 1:
+            continue  # the same as the best instruction set's line
+        y = [res.rate(s, kind, impl, t) for s in scenes]
+        pts = [(a, b) for a, b in zip(x, y) if b is not None]
+        if pts:
+            style = "--" if "Embree" in label else "-"
+            ax.plot(*zip(*pts), style, marker="o", label=label)
+    ax.set_xscale("log", base=2)
+    ax.set_yscale("log")
+    ax.set_xlabel("spheres (random:N scenes)")
+    ax.set_ylabel("rays per second")
+    ax.set_title(f"{kind.capitalize()} rays: closest hit, rays per second")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_speedup(res, path):
+    scenes = res.random_scenes()
+    x = [res.spheres[s] for s in scenes]
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for isa in res.isas():
+        for kind, style in zip(KINDS, ("-", "--")):
+            y = [ratio(res.rate(s, kind, isa, key="sphere_tests_per_second"),
+                       res.rate(s, kind, "scalar", key="sphere_tests_per_second")) for s in scenes]
+            pts = [(a, b) for a, b in zip(x, y) if b is not None]
+            if pts:
+                ax.plot(*zip(*pts), style, marker="o", label=f"{isa}, {kind}")
+    for isa, want in TARGET_SPEEDUP.items():
+        if isa in res.isas():
+            ax.axhline(want, color="grey", linestyle=":", linewidth=1)
+            ax.annotate(f"{isa} target {want:g}x", (x[0], want), fontsize=7, va="bottom")
+    ax.set_xscale("log", base=2)
+    ax.set_xlabel("spheres (random:N scenes)")
+    ax.set_ylabel("sphere tests per second / scalar")
+    ax.set_title("Speed-up over the scalar reference, one thread")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+# --- page ----------------------------------------------------------------------------------
+
+INTRO = """# Performance
+
+Rays per second of every way sphray answers a closest-hit query, side by side with its scalar
+reference and with Intel Embree 3, all in one process on the same spheres and rays. This page
+is generated: `bench/run.sh` runs the benchmarks and `bench/report.py` writes this file and the
+plots from their JSON. Absolute figures move with the machine (a shared virtual machine can
+drift by 1.5x between runs); ratios taken within one run are the figures to compare.
+
+## What is measured
+
+- Scenes: the renderer's presets (`single`, `three`, `rtiow-final`, `random:N`), made by its own
+  scene code, so the figures are for exactly the scenes `sphray render` draws.
+- Coherent rays: the 262,144 camera rays of a 512 x 512 image with the scene's camera.
+  Incoherent rays: as many rays with origins uniform in the scene box (the bounds of the
+  spheres, leaving out any sphere over 10 times the median radius, such as a ground sphere)
+  and directions uniform on the unit sphere. Both are made once, before any timing.
+- Brute force (every sphere for every ray) traces at most 2^26 ray/sphere pairs per pass:
+  on large scenes a smaller camera image (coherent) or the first rays of the random set
+  (incoherent), never fewer spheres, and at least 256 rays.
+- Implementations: `scalar` is `sphray::scalar::intersect`; `sse4.2`, `avx2`, `avx512` are
+  each instruction set's kernel forced through `sphray::find_kernel(isa)`, per ray;
+  `dispatch` is `sphray::intersect(view, ray)` and `dispatch stream` the span overload, split
+  into chunks across a oneTBB arena of 1 or all threads by the caller; Embree is
+  `RTC_GEOMETRY_TYPE_SPHERE_POINT` with one float4 (x, y, z, r) per sphere, `rtcIntersect1`
+  per ray (chunks across threads the same way) and `rtcIntersect8` on packets of 8 consecutive
+  rays.
+- Timing: wall-clock time of whole passes over the ray set (Google Benchmark, real time)."""
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("json", type=Path, help="output of sphray_bench --benchmark_out=FILE --benchmark_out_format=json")
+    ap.add_argument("--docs", type=Path, default=HERE.parent / "docs", help="the docs folder to write into")
+    ap.add_argument("--command", default="bench/run.sh", help="the command that made the run, for the page")
+    args = ap.parse_args(argv)
+
+    data = json.loads(args.json.read_text())
+    res = Results(load_rows(data))
+    if not res.rays:
+        sys.exit(f"{args.json}: no rays/ benchmarks in this file")
+    images = args.docs / "images"
+    images.mkdir(parents=True, exist_ok=True)
+    for kind in KINDS:
+        plot_rates(res, kind, images / f"perf-rays-{kind}.png")
+    plot_speedup(res, images / "perf-speedup.png")
+
+    sections = [
+        INTRO,
+        machine_section(data.get("context", {}), args.command),
+        targets_section(res),
+        rays_tables(res),
+        "![Rays per second against sphere count, coherent](images/perf-rays-coherent.png)\n\n"
+        "![Rays per second against sphere count, incoherent](images/perf-rays-incoherent.png)",
+        ratio_tables(res),
+        "![Speed-up over scalar per instruction set](images/perf-speedup.png)",
+        stream_table(res),
+        build_table(res),
+        cycles_section(res),
+        failures_section(res),
+    ]
+    page = "\n\n".join(s for s in sections if s) + "\n"
+    (args.docs / "performance.md").write_text(page)
+    print(f"wrote {args.docs / 'performance.md'} and {images}/perf-*.png")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
