@@ -90,9 +90,11 @@ struct SphereBatchKernel {
     const Floats r2 = sp.r * sp.r;
     const Floats disc = r2 - xsimd::fma(vx, vx, xsimd::fma(vy, vy, vz * vz));
     // NaN and infinite sphere fields make disc NaN (infinite centre: inf - inf in v), which
-    // fails this test; radius <= 0 needs its own.
-    live = (disc >= Floats(0.0f)) & (sp.r > Floats(0.0f));
+    // fails this test. Radius <= 0 needs its own, but it is rare, so it is paid only by the
+    // batches that pass the cheap one.
+    live = disc >= Floats(0.0f);
     if (xsimd::none(live)) return false;
+    live = live & (sp.r > Floats(0.0f));
     const Floats c = xsimd::fma(gx, gx, xsimd::fma(gy, gy, xsimd::fms(gz, gz, r2)));
     const Floats q = b + xsimd::copysign(xsimd::sqrt(s.a * disc), b);
     const Floats t0 = c / q, t1 = q * s.inv_a;
