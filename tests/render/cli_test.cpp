@@ -1,0 +1,225 @@
+// The sphray command, run as a process: exit statuses, one-line messages, files written and
+// read back (PNG with stb_image, P3 PPM parsed here), and existing files left untouched.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#define STB_IMAGE_IMPLEMENTATION
+#include <stb/stb_image.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status;
+  std::string out;  // stdout and stderr together
+};
+
+Result run(const std::string& args) {
+  std::string command = std::string(SPHRAY_EXE) + " " + args + " 2>&1";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) return {-1, "popen failed"};
+  std::string out;
+  char buffer[4096];
+  while (std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe))
+    out.append(buffer, n);
+  int raw = ::pclose(pipe);
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, out};
+}
+
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("sphray-cli-" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::size_t files_in_dir() const {
+    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), {}));
+  }
+  fs::path dir_;
+};
+
+TEST_F(Cli, RendersAPngThatReadsBack) {
+  Result r = run("render -s single -W 41 -H 23 --spp 1 -o " + path("a.png"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("41x23, 1 spp"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("rays/s"), std::string::npos) << r.out;
+  int w = 0, h = 0, channels = 0;
+  stbi_uc* data = stbi_load(path("a.png").c_str(), &w, &h, &channels, 3);
+  ASSERT_NE(data, nullptr);
+  EXPECT_EQ(w, 41);
+  EXPECT_EQ(h, 23);
+  // The centre pixel: the normal (0,0,1) as 0.5 * (n + 1), int(255.999 * c).
+  const stbi_uc* centre = data + 3 * (11 * 41 + 20);
+  EXPECT_EQ(centre[0], 127);
+  EXPECT_EQ(centre[1], 127);
+  EXPECT_EQ(centre[2], 255);
+  stbi_image_free(data);
+  EXPECT_EQ(files_in_dir(), 1u);  // no temporary file left behind
+}
+
+TEST_F(Cli, PpmIsP3WithTheSamePixelsAsThePng) {
+  ASSERT_EQ(run("render -s three -m shaded -W 32 -H 18 -q -o " + path("a.png")).status, 0);
+  ASSERT_EQ(run("render -s three -m shaded -W 32 -H 18 -q -o " + path("a.ppm")).status, 0);
+  int w = 0, h = 0, channels = 0;
+  stbi_uc* png = stbi_load(path("a.png").c_str(), &w, &h, &channels, 3);
+  ASSERT_NE(png, nullptr);
+  std::istringstream ppm(read_bytes(path("a.ppm")));
+  std::string magic;
+  int pw = 0, ph = 0, max = 0;
+  ppm >> magic >> pw >> ph >> max;
+  EXPECT_EQ(magic, "P3");
+  EXPECT_EQ(pw, 32);
+  EXPECT_EQ(ph, 18);
+  EXPECT_EQ(max, 255);
+  std::vector<int> values;
+  for (int v; ppm >> v;)
+    values.push_back(v);
+  ASSERT_EQ(values.size(), 32u * 18u * 3u);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    ASSERT_EQ(values[i], png[i]) << "value " << i;
+  stbi_image_free(png);
+}
+
+TEST_F(Cli, QuietPrintsNothing) {
+  Result r = run("render -s single -W 16 -H 9 -q -o " + path("q.png"));
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.out, "");
+}
+
+TEST_F(Cli, ScenesInfoAndHelp) {
+  Result scenes = run("scenes");
+  EXPECT_EQ(scenes.status, 0);
+  for (const char* name : {"single", "three", "rtiow-final", "random:N"}) {
+    EXPECT_NE(scenes.out.find(name), std::string::npos) << name;
+  }
+  Result info = run("info");
+  EXPECT_EQ(info.status, 0);
+  EXPECT_NE(info.out.find("instruction set: "), std::string::npos) << info.out;
+  for (const char* help : {"--help", "render --help", "scenes --help", "info --help"}) {
+    Result r = run(help);
+    EXPECT_EQ(r.status, 0) << help;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << help << ": " << r.out;
+  }
+  EXPECT_NE(run("render --help").out.find("--spp"), std::string::npos);
+}
+
+// Every refusal: the status, the one line it prints, and the existing output untouched.
+struct Refusal {
+  std::string name;   // the test's name
+  std::string args;   // before -o
+  std::string scene;  // written to bad.json when not empty
+  int status;
+  std::string message;  // the whole line, with DIR standing for the test's folder
+};
+
+class CliRefusals : public Cli, public ::testing::WithParamInterface<Refusal> {};
+
+void PrintTo(const Refusal& refusal, std::ostream* out) {
+  *out << refusal.args;
+}
+
+TEST_P(CliRefusals, ExitStatusMessageAndOutputUntouched) {
+  const Refusal& refusal = GetParam();
+  std::string output = path("out.png");
+  std::string original = "not really a PNG, but it must survive";
+  write_text(output, original);
+  if (!refusal.scene.empty()) write_text(path("bad.json"), refusal.scene);
+  auto expand = [&](std::string text) {
+    for (std::size_t at; (at = text.find("DIR")) != std::string::npos;) {
+      text.replace(at, 3, dir_.string());
+    }
+    return text;
+  };
+  std::string args = expand(refusal.args);
+  if (args.starts_with("render") && args.find(" -o ") == std::string::npos) {
+    args += " -o " + output;
+  }
+  Result r = run(args);
+  EXPECT_EQ(r.status, refusal.status) << r.out;
+  EXPECT_EQ(r.out, expand(refusal.message) + "\n");
+  EXPECT_EQ(read_bytes(output), original);
+  EXPECT_EQ(files_in_dir(), refusal.scene.empty() ? 1u : 2u);  // no temporary file left
+}
+
+const char kSphere[] = R"({"center": [0, 0, -1], "radius": 0.5})";
+
+INSTANTIATE_TEST_SUITE_P(
+    BadInput, CliRefusals,
+    ::testing::Values(
+        Refusal{"UnknownExtension", "render -s single -o DIR/out.bmp", "", 2,
+                "sphray: DIR/out.bmp: expected an output file ending in .png or .ppm"},
+        Refusal{"UnknownPreset", "render -s nosuch", "", 2,
+                "sphray: nosuch: expected a preset (single, three, rtiow-final, random:N) or a "
+                ".json file"},
+        Refusal{"RandomZero", "render -s random:0", "", 2,
+                "sphray: random:0: expected random:N with N from 1 to 16777216"},
+        Refusal{"SceneNotFound", "render -s DIR/missing.json", "", 2,
+                "sphray: DIR/missing.json: cannot read the scene file (No such file or "
+                "directory)"},
+        Refusal{"SceneIsADirectory", "render -s DIR", "", 2,
+                "sphray: DIR: expected a scene file, got a directory"},
+        Refusal{"EmptyFile", "render -s DIR/bad.json", "\n  \n", 2,
+                "sphray: DIR/bad.json: expected a JSON scene, the file is empty"},
+        Refusal{"NotJson", "render -s DIR/bad.json", "spheres: []", 2,
+                "sphray: DIR/bad.json:1:1: expected valid JSON (syntax error while parsing value "
+                "- invalid literal; last read: 's')"},
+        Refusal{"MissingField", "render -s DIR/bad.json", "{\"spheres\": [{\"radius\": 1}]}", 2,
+                "sphray: DIR/bad.json:1:14: expected a sphere to have a \"center\""},
+        Refusal{"MistypedField", "render -s DIR/bad.json",
+                "{\"spheres\": [{\"center\": [0,0,-1], \"radius\": \"1\"}]}", 2,
+                "sphray: DIR/bad.json:1:45: expected \"radius\" to be a number, got a string"},
+        Refusal{"NaN", "render -s DIR/bad.json",
+                "{\"spheres\": [{\"center\": [0,NaN,-1], \"radius\": 1}]}", 2,
+                "sphray: DIR/bad.json:1:28: expected valid JSON (syntax error while parsing value "
+                "- invalid literal; last read: '0,N')"},
+        Refusal{"NegativeRadius", "render -s DIR/bad.json",
+                "{\"spheres\": [\n  {\"center\": [0,0,-1], \"radius\": -0.5}\n]}", 2,
+                "sphray: DIR/bad.json:2:34: expected \"radius\" to be positive, got -0.5"},
+        Refusal{"UnknownKey", "render -s DIR/bad.json",
+                std::string("{\"spheres\": [") + kSphere + "], \"lights\": []}", 2,
+                "sphray: DIR/bad.json:1:54: expected one of the keys name, camera, spheres, "
+                "width, height in the scene, got unknown key \"lights\""},
+        Refusal{"UnknownMode", "render -m glossy", "", 2,
+                "sphray: --mode: glossy not in {normals,flat,depth,id,shaded} (see sphray --help)"},
+        Refusal{"ZeroWidth", "render -W 0", "", 2,
+                "sphray: --width: Value 0 not in range 1 to 16384 (see sphray --help)"},
+        Refusal{"NotANumber", "render --spp lots", "", 2,
+                "sphray: --spp: Value lots not in range 1 to 65536 (see sphray --help)"},
+        Refusal{"UnknownOption", "render --frobnicate", "", 2,
+                "sphray: The following argument was not expected: --frobnicate (see sphray "
+                "--help)"},
+        Refusal{"UnknownCommand", "paint", "", 2,
+                "sphray: The following argument was not expected: paint (see sphray --help)"},
+        Refusal{"UnwritableOutput", "render -s single -o DIR/no/such/folder/out.png", "", 1,
+                "sphray: DIR/no/such/folder/out.png: cannot create the output file (No such "
+                "file or directory)"}),
+    [](const auto& info) { return info.param.name; });
+
+}  // namespace
