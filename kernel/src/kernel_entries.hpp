@@ -4,6 +4,8 @@
 
 #include <cstddef>
 
+#include "bvh_scalar.hpp"
+#include "bvh_traverse.hpp"
 #include "kernel_table.hpp"
 #include "sphere_batch.hpp"
 #include "sphray/query.hpp"
@@ -34,12 +36,35 @@ struct KernelEntries {
     for (std::size_t i = 0; i < n; ++i)
       hits[i] = Batch::intersect(v, rays[i]);
   }
+
+  // A tree over so few spheres takes the scalar path too, so that it returns exactly what the
+  // brute-force entries above return on the same spheres.
+  using Tree = BvhTraversal<A>;
+  static Hit bvh_intersect(const BvhData& bvh, const Ray& ray) {
+    return bvh.count < kScalarBelow ? scalar_bvh_intersect(bvh, ray) : Tree::intersect(bvh, ray);
+  }
+  static bool bvh_occluded(const BvhData& bvh, const Ray& ray) {
+    return bvh.count < kScalarBelow ? scalar_bvh_occluded(bvh, ray) : Tree::occluded(bvh, ray);
+  }
+  static void bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+    if (bvh.count < kScalarBelow) return scalar_bvh_intersect_stream(bvh, rays, hits, n);
+    for (std::size_t i = 0; i < n; ++i)
+      hits[i] = Tree::intersect(bvh, rays[i]);
+  }
 };
 
 template <class A>
 constexpr Kernel make_kernel(Isa isa) {
   using E = KernelEntries<A>;
-  return {isa, E::Batch::kWidth, &E::intersect, &E::occluded, &E::intersect_stream};
+  return {isa,
+          E::Batch::kWidth,
+          &E::intersect,
+          &E::occluded,
+          &E::intersect_stream,
+          E::Tree::kWidth,
+          &E::bvh_intersect,
+          &E::bvh_occluded,
+          &E::bvh_intersect_stream};
 }
 
 }  // namespace sphray::detail

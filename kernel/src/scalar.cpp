@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 
+#include "bvh_scalar.hpp"
 #include "kernel_table.hpp"
 #include "sphray/query.hpp"
 
@@ -81,6 +82,13 @@ void scalar_stream(SphereView spheres, const Ray* rays, Hit* hits, std::size_t n
 }
 }  // namespace
 
-constinit const Kernel kScalarKernel = {Isa::scalar, 1, &scalar::intersect, &scalar::occluded,
-                                        &scalar_stream};
+constinit const Kernel kScalarKernel = {Isa::scalar,
+                                        1,
+                                        &scalar::intersect,
+                                        &scalar::occluded,
+                                        &scalar_stream,
+                                        kScalarBvhWidth,
+                                        &scalar_bvh_intersect,
+                                        &scalar_bvh_occluded,
+                                        &scalar_bvh_intersect_stream};
 }  // namespace sphray::detail

@@ -17,6 +17,10 @@
 
 namespace sphray {
 
+namespace detail {
+struct BvhData;  // bvh.hpp
+}  // namespace detail
+
 enum class Isa { scalar, sse4_2, avx2, avx512, neon };
 
 /// "scalar", "sse4.2", "avx2", "avx512", "neon": the names SPHRAY_ISA takes.
@@ -34,6 +38,13 @@ struct Kernel {
   bool (*occluded)(SphereView spheres, const Ray& ray);
   /// hits[i] = intersect(spheres, rays[i]) for i < count.
   void (*intersect_stream)(SphereView spheres, const Ray* rays, Hit* hits, std::size_t count);
+  /// The SphereBVH entries (bvh.hpp) for trees of bvh_width children per node and spheres per
+  /// leaf batch.
+  std::size_t bvh_width;
+  Hit (*bvh_intersect)(const detail::BvhData& bvh, const Ray& ray);
+  bool (*bvh_occluded)(const detail::BvhData& bvh, const Ray& ray);
+  void (*bvh_intersect_stream)(const detail::BvhData& bvh, const Ray* rays, Hit* hits,
+                               std::size_t count);
 };
 
 /// The kernel for isa, or nullptr if this build lacks it or this machine cannot run it.

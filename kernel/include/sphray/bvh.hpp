@@ -1,0 +1,113 @@
+// SphereBVH: a wide bounding volume hierarchy over spheres, for scenes too large for brute force.
+//
+// Built once from a SphereView, it keeps its own copy of the spheres (in leaf order, with their
+// original ids), so the view may change or go away afterwards. Queries follow the contract of
+// query.hpp exactly: the same id and t as brute force on the same spheres with the same
+// instruction set, ties to the lower id, the same handling of invalid rays and spheres.
+//
+//   sphray::SphereBVH bvh(spheres.view());
+//   sphray::Hit hit = sphray::intersect(bvh, ray);
+//   ...  // spheres moved, same count:
+//   bvh.refit(spheres.view());
+//
+// A node holds as many children as one SIMD batch has lanes, and a leaf as many spheres: the
+// tree is laid out for one instruction set, active_isa() unless another is given, and queried
+// with that set's kernel. Queries are const and thread-safe; build and refit are not queries.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include "sphray/isa.hpp"
+#include "sphray/ray.hpp"
+#include "sphray/spheres.hpp"
+
+namespace sphray {
+
+namespace detail {
+/// The flat arrays a traversal reads (see docs/bvh.md, "Layout"). Not part of the stable API.
+struct BvhData {
+  /// Children per node and spheres per leaf batch.
+  std::size_t width = 0;
+  /// Node k starts at nodes + k * 8 * width: the children's boxes as six arrays of width floats
+  /// (lo x, hi x, lo y, hi y, lo z, hi z), then width child references (uint32 bits), then
+  /// width unused floats that keep every node on a 64-byte boundary. Node 0 is the root.
+  const float* nodes = nullptr;
+  std::size_t node_count = 0;
+  /// The spheres in leaf order, padded with never-hit spheres to whole batches, and each
+  /// one's id in the view the tree was built from (kNoHit for padding).
+  SphereView spheres{nullptr, nullptr, nullptr, nullptr, 0, 0};
+  const std::uint32_t* ids = nullptr;
+  /// The number of spheres the tree was built over.
+  std::size_t count = 0;
+};
+
+/// A child reference with this bit set is a leaf: bits 0-26 hold its first batch, bits 27-30
+/// its batch count minus one. Otherwise it is a node's index.
+inline constexpr std::uint32_t kBvhLeafBit = 0x80000000u;
+inline constexpr std::uint32_t kBvhLeafBatchShift = 27;
+inline constexpr std::uint32_t kBvhLeafFirstMask = (1u << kBvhLeafBatchShift) - 1;
+/// The deepest tree the builder makes (it switches to median splits to stay within it), which
+/// bounds the traversal stack to kBvhMaxDepth * (width - 1) + 1 entries.
+inline constexpr std::size_t kBvhMaxDepth = 64;
+}  // namespace detail
+
+/// How to build a SphereBVH.
+struct BvhBuildOptions {
+  /// Threads the builder may use; 0: all. The tree is the same whatever this is.
+  unsigned threads = 0;
+};
+
+class SphereBVH {
+ public:
+  /// An empty tree (no spheres), for the active instruction set.
+  SphereBVH();
+  /// Builds over spheres for the active instruction set. Throws std::length_error past
+  /// 2^31 spheres.
+  explicit SphereBVH(SphereView spheres, BvhBuildOptions options = {});
+  /// Builds over spheres for isa. Throws std::invalid_argument if find_kernel(isa) is null.
+  SphereBVH(SphereView spheres, Isa isa, BvhBuildOptions options = {});
+
+  SphereBVH(SphereBVH&&) noexcept;
+  SphereBVH& operator=(SphereBVH&&) noexcept;
+  ~SphereBVH();
+
+  /// Takes the new centres and radii of the same spheres (same count, same ids) and updates the
+  /// boxes, keeping the tree's shape: much cheaper than a rebuild, but the tree gets slower as
+  /// spheres drift far from where they were built. Throws std::invalid_argument if the count
+  /// differs.
+  void refit(SphereView spheres);
+
+  /// The number of spheres (the view's count at build time).
+  std::size_t size() const;
+  /// The instruction set the tree is laid out for and queried with.
+  Isa isa() const;
+  /// Bytes held: the sphere copy, the ids and the nodes. memory_bytes() / size() is the
+  /// figure docs/bvh.md reports as bytes per sphere.
+  std::size_t memory_bytes() const;
+
+  /// The traversal's view of the tree (for the kernels and tests; not a stable API).
+  const detail::BvhData& data() const { return data_; }
+  const Kernel& kernel() const { return *kernel_; }
+
+ private:
+  struct Storage;
+  std::unique_ptr<Storage> storage_;
+  detail::BvhData data_;
+  const Kernel* kernel_;
+};
+
+/// Closest hit of ray among the tree's spheres: the same result as intersect(view, ray) on the
+/// spheres it was built (or last refitted) from.
+Hit intersect(const SphereBVH& bvh, const Ray& ray);
+
+/// True if any sphere is hit in (tmin, tmax).
+bool occluded(const SphereBVH& bvh, const Ray& ray);
+
+/// hits[i] = intersect(bvh, rays[i]). Throws std::length_error unless
+/// hits.size() == rays.size().
+void intersect(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> hits);
+
+}  // namespace sphray

@@ -1,0 +1,90 @@
+#include "bvh_scalar.hpp"
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#include "sphray/query.hpp"
+
+namespace sphray::detail {
+namespace {
+
+// See BvhTraversal: Ize's conservative slab test, 1 + 2 gamma(3).
+constexpr float kExitScale = 1.0f + 2.0f * (3.0f * 0x1p-24f / (1.0f - 3.0f * 0x1p-24f));
+
+// Whether ray (valid) enters the box of child k of node before tmax: a slab whose distances
+// are NaN (a zero direction component with the origin on a plane) does not bound the ray.
+bool enters(const float* node, std::size_t w, std::size_t k, const Ray& ray, float tmax) {
+  float tnear = ray.tmin, tfar = INFINITY;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float o = ray.origin[axis], inv = 1.0f / ray.dir[axis];
+    float t0 = (node[(2 * axis) * w + k] - o) * inv;
+    float t1 = (node[(2 * axis + 1) * w + k] - o) * inv;
+    if (std::signbit(ray.dir[axis])) std::swap(t0, t1);
+    if (t0 > tnear) tnear = t0;
+    if (t1 < tfar) tfar = t1;
+  }
+  return tnear <= tfar * kExitScale && tnear <= tmax;
+}
+
+// Visits every leaf whose box the ray enters; leaf(first sphere, sphere count) returns true to
+// stop.
+template <class Leaf>
+void visit(const BvhData& bvh, const Ray& ray, const float& tmax, Leaf&& leaf) {
+  if (bvh.node_count == 0) return;
+  const std::size_t w = bvh.width;
+  std::uint32_t stack[kBvhMaxDepth * (kScalarBvhWidth - 1) + 1];
+  std::size_t top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const std::uint32_t ref = stack[--top];
+    if (ref & kBvhLeafBit) {
+      const std::size_t batches = ((ref & ~kBvhLeafBit) >> kBvhLeafBatchShift) + 1;
+      if (leaf((ref & kBvhLeafFirstMask) * w, batches * w)) return;
+      continue;
+    }
+    const float* node = bvh.nodes + std::size_t{ref} * 8 * w;
+    for (std::size_t k = 0; k < w; ++k)
+      if (enters(node, w, k, ray, tmax))
+        stack[top++] = std::bit_cast<std::uint32_t>(node[6 * w + k]);
+  }
+}
+
+SphereView one_sphere(const SphereView& v, std::size_t i) {
+  return {v.cx + i, v.cy + i, v.cz + i, v.radius + i, 1, 0};
+}
+
+}  // namespace
+
+Hit scalar_bvh_intersect(const BvhData& bvh, const Ray& ray) {
+  Hit best{ray.tmax, kNoHit};
+  visit(bvh, ray, best.t, [&](std::size_t first, std::size_t count) {
+    for (std::size_t i = first; i < first + count; ++i) {
+      // The sphere's own hit within the ray's full interval, then the contract's order: the
+      // smaller t, and on equal t the lower id.
+      const Hit h = scalar::intersect(one_sphere(bvh.spheres, i), ray);
+      if (!h.found()) continue;
+      const std::uint32_t id = bvh.ids[i];
+      if (h.t < best.t || (h.t == best.t && id < best.id)) best = {h.t, id};
+    }
+    return false;
+  });
+  return best;
+}
+
+bool scalar_bvh_occluded(const BvhData& bvh, const Ray& ray) {
+  bool hit = false;
+  visit(bvh, ray, ray.tmax, [&](std::size_t first, std::size_t count) {
+    for (std::size_t i = first; i < first + count && !hit; ++i)
+      hit = scalar::occluded(one_sphere(bvh.spheres, i), ray);
+    return hit;
+  });
+  return hit;
+}
+
+void scalar_bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i)
+    hits[i] = scalar_bvh_intersect(bvh, rays[i]);
+}
+
+}  // namespace sphray::detail
