@@ -1,0 +1,135 @@
+// What the renderer adds to the kernel: rays per second of a normals render against the
+// kernel's own stream rate on the same camera rays, and the renderer's other work timed alone.
+//
+//   sphray_render_overhead [--scene rtiow-final] [--width 1920] [--height 1080] [--threads N]
+//
+// Each figure is the best of --repeat runs (the machine is shared; the best is the least
+// disturbed). Single-threaded phases first, then the same comparison on N threads.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <vector>
+
+#include "sphray/render/camera.hpp"
+#include "sphray/render/renderer.hpp"
+#include "sphray/render/scene.hpp"
+#include "sphray/sphray.hpp"
+
+namespace {
+
+using namespace sphray;
+using namespace sphray::render;
+
+template <class F>
+double best_seconds(int repeat, F&& work) {
+  double best = 1e300;
+  for (int i = 0; i < repeat; ++i) {
+    auto start = std::chrono::steady_clock::now();
+    work();
+    best = std::min(
+        best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  return best;
+}
+
+void report(const char* what, std::size_t rays, double seconds) {
+  std::printf("  %-48s %8.1f ms  %7.2f Mrays/s\n", what, seconds * 1e3,
+              static_cast<double>(rays) / seconds / 1e6);
+}
+
+// Camera rays through the pixel centres, row by row, as the renderer makes them for spp 1.
+std::vector<Ray> camera_rays(const Camera& camera) {
+  std::vector<Ray> rays;
+  rays.reserve(static_cast<std::size_t>(camera.width()) *
+               static_cast<std::size_t>(camera.height()));
+  for (int y = 0; y < camera.height(); ++y) {
+    for (int x = 0; x < camera.width(); ++x) {
+      rays.push_back(camera.ray(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
+    }
+  }
+  return rays;
+}
+
+// The kernel on the whole stream, cut into tile-sized pieces shared among the arena's threads.
+void stream_in_tiles(SphereView view, const std::vector<Ray>& rays, std::vector<Hit>& hits) {
+  constexpr std::size_t kTileRays = kTileSize * kTileSize;
+  std::size_t pieces = (rays.size() + kTileRays - 1) / kTileRays;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pieces, 1), [&](const auto& range) {
+    for (std::size_t p = range.begin(); p != range.end(); ++p) {
+      std::size_t first = p * kTileRays, n = std::min(kTileRays, rays.size() - first);
+      intersect(view, std::span(rays.data() + first, n), std::span(hits.data() + first, n));
+    }
+  });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Rays per second of the renderer against the kernel's stream on the same rays"};
+  std::string scene_name = "rtiow-final";
+  int width = 1920, height = 1080, threads = 0, repeat = 3;
+  app.add_option("--scene", scene_name)->capture_default_str();
+  app.add_option("--width", width)->check(CLI::Range(1, kMaxImageSide))->capture_default_str();
+  app.add_option("--height", height)->check(CLI::Range(1, kMaxImageSide))->capture_default_str();
+  app.add_option("--threads", threads, "0: all cores")->capture_default_str();
+  app.add_option("--repeat", repeat)->check(CLI::Range(1, 100))->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+
+  Scene scene = load_scene_or_preset(scene_name);
+  Camera camera(scene.camera, width, height);
+  SphereView view = scene.spheres.view();
+  std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  std::vector<Ray> rays = camera_rays(camera);
+  std::vector<Hit> hits(n);
+  std::vector<std::uint8_t> rgb(3 * n);
+  int all = tbb::task_arena(tbb::task_arena::automatic).max_concurrency();
+  int many = threads > 0 ? threads : all;
+
+  std::printf("%s, %zu spheres, %dx%d normals, spp 1, isa %s\n", scene.name.c_str(),
+              scene.spheres.size(), width, height, std::string(isa_name(active_isa())).c_str());
+  std::printf("1 thread:\n");
+  report("camera rays alone", n, best_seconds(repeat, [&] { rays = camera_rays(camera); }));
+  double kernel_1 = best_seconds(repeat, [&] { intersect(view, rays, hits); });
+  report("kernel stream alone (one call)", n, kernel_1);
+  report("shading alone (surface, 0.5(n+1) or sky, bytes)", n, best_seconds(repeat, [&] {
+           for (std::size_t i = 0; i < n; ++i) {
+             Vec3 c = hits[i].found()
+                          ? 0.5f * (surface(view, rays[i], hits[i]).normal + Vec3{1, 1, 1})
+                          : sky(rays[i]);
+             rgb[3 * i] = to_byte(c.x);
+             rgb[3 * i + 1] = to_byte(c.y);
+             rgb[3 * i + 2] = to_byte(c.z);
+           }
+         }));
+  RenderOptions options;
+  options.width = width;
+  options.height = height;
+  auto render_seconds = [&](int t) {
+    options.threads = t;
+    double best = 1e300;
+    for (int i = 0; i < repeat; ++i) {
+      RenderStats stats;
+      sphray::render::render(scene, options, {}, &stats);
+      best = std::min(best, stats.seconds);
+    }
+    return best;
+  };
+  double render_1 = render_seconds(1);
+  report("render (tiles: rays, kernel, shading)", n, render_1);
+  std::printf("  render / kernel rate: %.2f\n", kernel_1 / render_1);
+
+  std::printf("%d threads:\n", many);
+  tbb::task_arena arena(many);
+  double kernel_n =
+      best_seconds(repeat, [&] { arena.execute([&] { stream_in_tiles(view, rays, hits); }); });
+  report("kernel stream alone (tile-sized calls)", n, kernel_n);
+  double render_n = render_seconds(many);
+  report("render", n, render_n);
+  std::printf("  render / kernel rate: %.2f\n", kernel_n / render_n);
+  return 0;
+}
