@@ -42,7 +42,7 @@ Scene make_three() {
   add_sphere(scene, {-2.2f, -0.3f, 0.5f}, 0.7f, {0.15f, 0.3f, 0.9f});
   add_sphere(scene, {2, -0.5f, 1}, 0.5f, {0.15f, 0.8f, 0.2f});
   // Slightly above, a little off-axis, with room around the outer spheres.
-  scene.camera = CameraSpec{{0.5f, 1.5f, 7.0f}, {0, -0.2f, 0.3f}, {0, 1, 0}, 40.0f};
+  scene.camera = CameraSpec{{0.5f, 1.5f, 7.0f}, {0, -0.2f, 0.3f}, {0, 1, 0}, 32.0f};
   return scene;
 }
 

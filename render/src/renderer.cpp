@@ -44,7 +44,7 @@ std::array<float, 2> jitter(std::uint64_t pixel, int spp, int s, std::uint64_t s
 }
 
 Vec3 id_color(std::uint32_t id) {
-  std::uint64_t h = mix(id);
+  std::uint64_t h = mix(std::uint64_t{id} + 1);  // mix(0) is 0: start ids at 1
   auto channel = [h](int shift) {
     return 0.2f + 0.8f * static_cast<float>((h >> shift) & 0xffu) / 255.0f;
   };
