@@ -2,6 +2,9 @@
 // one line on stderr and an exit status: 2 for bad usage or input, 1 for an I/O failure.
 #include <unistd.h>
 
+#include <csignal>
+#include <cstring>
+
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
@@ -66,6 +69,24 @@ class ProgressBar {
   Clock::time_point last_{};
 };
 
+// Ctrl-C or a kill during a render: remove the temporary output file, then die of the signal
+// as usual. unlink is async-signal-safe; the path is copied into static storage beforehand.
+char pending_path[4096];
+
+extern "C" void remove_pending_and_reraise(int signal) {
+  if (pending_path[0] != '\0') ::unlink(pending_path);
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
+void remove_on_signal(const PendingImageFile& file) {
+  std::string path = file.temporary().string();
+  if (path.size() >= sizeof pending_path) return;
+  std::memcpy(pending_path, path.c_str(), path.size() + 1);
+  for (int signal : {SIGINT, SIGTERM, SIGHUP})
+    std::signal(signal, remove_pending_and_reraise);
+}
+
 std::string format_rate(double per_second) {
   char text[32];
   if (per_second >= 1e6) {
@@ -102,6 +123,7 @@ int run_render(const RenderArgs& args) {
     options.threads = args.threads;
     options.seed = args.seed;
     PendingImageFile output(args.output);
+    remove_on_signal(output);
     RenderStats stats;
     Image image;
     {

@@ -38,6 +38,8 @@ class PendingImageFile {
   void commit(const Image& image);
 
   const std::filesystem::path& target() const { return target_; }
+  /// The temporary file's path (a signal handler may unlink it).
+  const std::filesystem::path& temporary() const { return temporary_; }
 
  private:
   std::filesystem::path target_;
