@@ -76,11 +76,15 @@ Box sphere_box(float x, float y, float z, float r) {
   return b;
 }
 
-struct Prims {
-  std::vector<Box> boxes;                       // by id
-  std::vector<std::array<float, 3>> centroids;  // by id; 0 for invalid spheres
-  std::vector<std::uint32_t> order;             // ids, partitioned as the build goes
+// One sphere as the builder sees it. The build partitions an array of these in place, so every
+// pass over a range reads memory in order (an array of ids into per-sphere arrays would make
+// each pass a random gather, several times slower at a million spheres).
+struct Prim {
+  Box box;
+  std::array<float, 3> centroid;  // the centre; 0 for an invalid sphere
+  std::uint32_t id;
 };
+using Prims = std::vector<Prim>;
 
 template <class Body>
 void parallel_for(std::size_t n, Body&& body) {
@@ -122,7 +126,7 @@ T reduce_range(std::size_t begin, std::size_t end, const T& identity, Fold&& fol
   return acc;
 }
 
-// A range of order[] that will become one child of a node.
+// A range of the prims that will become one child of a node.
 struct Cluster {
   std::size_t begin, end;
   Box box;       // of the spheres
@@ -131,17 +135,25 @@ struct Cluster {
   std::size_t size() const { return end - begin; }
 };
 
+struct Bin {
+  Box box;
+  Box centroid;
+  std::size_t count = 0;
+
+  void grow(const Bin& b) {
+    box.grow(b.box);
+    centroid.grow(b.centroid);
+    count += b.count;
+  }
+};
 struct Split {
   int axis = -1;
   std::size_t bin = 0;  // spheres in bins <= bin go left
   float scale = 0.0f;
   float origin = 0.0f;
+  Bin left, right;  // what each side will hold
 };
 
-struct Bin {
-  Box box;
-  std::size_t count = 0;
-};
 using Bins = std::array<std::array<Bin, kBins>, 3>;
 
 class Builder {
@@ -163,8 +175,8 @@ class Builder {
     const Acc acc = reduce_range(
         begin, end, Acc{},
         [&](Acc& a, std::size_t i) {
-          a.box.grow(p_.boxes[p_.order[i]]);
-          a.centroid.grow(p_.centroids[p_.order[i]]);
+          a.box.grow(p_[i].box);
+          a.centroid.grow(p_[i].centroid);
         },
         [](Acc& a, const Acc& b) {
           a.box.grow(b.box);
@@ -221,21 +233,21 @@ class Builder {
   }
 
   std::pair<Cluster, Cluster> split(const Cluster& c, std::size_t depth) {
-    std::size_t mid = c.begin;
     if (depth < kSahDepth) {
       const Split s = best_sah_split(c);
       if (s.axis >= 0) {
-        auto* first = p_.order.data() + c.begin;
-        auto* last = p_.order.data() + c.end;
-        mid = static_cast<std::size_t>(std::partition(first, last,
-                                                      [&](std::uint32_t id) {
-                                                        return bin_of(p_.centroids[id][s.axis],
-                                                                      s.origin, s.scale) <= s.bin;
-                                                      }) -
-                                       p_.order.data());
+        Prim* first = p_.data() + c.begin;
+        const Prim* mid = std::partition(first, p_.data() + c.end, [&](const Prim& p) {
+          return bin_of(p.centroid[s.axis], s.origin, s.scale) <= s.bin;
+        });
+        // The bins already hold both sides' bounds: no pass over the spheres to find them.
+        const std::size_t m = c.begin + s.left.count;
+        if (mid == p_.data() + m)
+          return {{c.begin, m, s.left.box, s.left.centroid},
+                  {m, c.end, s.right.box, s.right.centroid}};
       }
     }
-    if (mid == c.begin || mid == c.end) mid = median_split(c);
+    const std::size_t mid = median_split(c);
     return {cluster(c.begin, mid), cluster(mid, c.end)};
   }
 
@@ -264,20 +276,19 @@ class Builder {
     const Bins bins = reduce_range(
         c.begin, c.end, Bins{},
         [&](Bins& b, std::size_t i) {
-          const std::uint32_t id = p_.order[i];
+          const Prim& p = p_[i];
           for (int k = 0; k < 3; ++k) {
             if (scale[k] == 0.0f) continue;
-            Bin& bin = b[k][bin_of(p_.centroids[id][k], origin[k], scale[k])];
-            bin.box.grow(p_.boxes[id]);
+            Bin& bin = b[k][bin_of(p.centroid[k], origin[k], scale[k])];
+            bin.box.grow(p.box);
+            bin.centroid.grow(p.centroid);
             ++bin.count;
           }
         },
         [](Bins& a, const Bins& b) {
           for (int k = 0; k < 3; ++k)
-            for (std::size_t i = 0; i < kBins; ++i) {
-              a[k][i].box.grow(b[k][i].box);
-              a[k][i].count += b[k][i].count;
-            }
+            for (std::size_t i = 0; i < kBins; ++i)
+              a[k][i].grow(b[k][i]);
         });
     Split best;
     float best_cost = kInf;
@@ -287,20 +298,18 @@ class Builder {
       std::array<Bin, kBins> right;
       Bin above;
       for (std::size_t i = kBins - 1; i > 0; --i) {
-        above.box.grow(bins[k][i].box);
-        above.count += bins[k][i].count;
+        above.grow(bins[k][i]);
         right[i - 1] = above;
       }
       Bin left;
       for (std::size_t i = 0; i + 1 < kBins; ++i) {
-        left.box.grow(bins[k][i].box);
-        left.count += bins[k][i].count;
+        left.grow(bins[k][i]);
         if (left.count == 0 || right[i].count == 0) continue;
         const float cost =
             side_cost(left.box, left.count) + side_cost(right[i].box, right[i].count);
         if (cost < best_cost) {
           best_cost = cost;
-          best = {k, i, scale[k], origin[k]};
+          best = {k, i, scale[k], origin[k], left, right[i]};
         }
       }
     }
@@ -322,10 +331,10 @@ class Builder {
     const std::size_t n = c.size();
     std::size_t left = (n / 2 + width_ - 1) / width_ * width_;
     if (left >= n) left = n / 2;
-    auto* first = p_.order.data() + c.begin;
-    std::nth_element(first, first + left, first + n, [&](std::uint32_t a, std::uint32_t b) {
-      const float ca = p_.centroids[a][axis], cb = p_.centroids[b][axis];
-      return ca < cb || (ca == cb && a < b);
+    Prim* first = p_.data() + c.begin;
+    std::nth_element(first, first + left, first + n, [&](const Prim& a, const Prim& b) {
+      const float ca = a.centroid[axis], cb = b.centroid[axis];
+      return ca < cb || (ca == cb && a.id < b.id);
     });
     return c.begin + left;
   }
@@ -386,7 +395,7 @@ class Flattener {
     for (std::size_t i = 0; i < batches * w_; ++i) {
       const std::size_t slot = first * w_ + i;
       if (c.begin + i < c.end) {
-        const std::uint32_t id = p_.order[c.begin + i];
+        const std::uint32_t id = p_[c.begin + i].id;
         out_.ids[slot] = id;
         out_.spheres.set(static_cast<std::uint32_t>(slot), {src_.cx[id], src_.cy[id], src_.cz[id]},
                          src_.radius[id]);
@@ -405,15 +414,13 @@ class Flattener {
 };
 
 Prims make_prims(SphereView v) {
-  Prims p;
-  p.boxes.resize(v.count);
-  p.centroids.resize(v.count);
-  p.order.resize(v.count);
+  Prims p(v.count);
   parallel_for(v.count, [&](std::size_t i) {
-    p.boxes[i] = sphere_box(v.cx[i], v.cy[i], v.cz[i], v.radius[i]);
-    p.centroids[i] = p.boxes[i].empty() ? std::array<float, 3>{0.0f, 0.0f, 0.0f}
-                                        : std::array<float, 3>{v.cx[i], v.cy[i], v.cz[i]};
-    p.order[i] = static_cast<std::uint32_t>(i);
+    const Box box = sphere_box(v.cx[i], v.cy[i], v.cz[i], v.radius[i]);
+    p[i] = {box,
+            box.empty() ? std::array<float, 3>{0.0f, 0.0f, 0.0f}
+                        : std::array<float, 3>{v.cx[i], v.cy[i], v.cz[i]},
+            static_cast<std::uint32_t>(i)};
   });
   return p;
 }
