@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <tuple>
 
 #include <benchmark/benchmark.h>
 
@@ -45,6 +46,34 @@ const Agreement& check(const std::string& key, const Workload& w, const Trace& t
   return it->second;
 }
 
+// The fraction of (ray, batch of `width` spheres) pairs in which some sphere's discriminant is
+// non-negative: the batches the kernel cannot skip. With it, the bound per batch of the
+// kernel's two paths (see bench/count_loop.py) blends into the bound for this workload.
+double live_batch_fraction(const Workload& w, std::size_t width) {
+  static std::map<std::tuple<std::string, RayKind, std::size_t>, double> known;
+  const auto key = std::make_tuple(w.scene, w.kind, width);
+  if (auto it = known.find(key); it != known.end()) return it->second;
+  const std::size_t n = w.spheres.size();
+  const std::size_t batches = (n + width - 1) / width;
+  std::size_t live = 0;
+  for (const Ray& ray : w.brute_rays) {
+    const float a = dot(ray.dir, ray.dir);
+    for (std::size_t b = 0; b < batches; ++b) {
+      bool any = false;
+      for (std::size_t i = b * width; i < std::min(n, (b + 1) * width) && !any; ++i) {
+        const auto id = static_cast<std::uint32_t>(i);
+        const Vec3 g = w.spheres.center(id) - ray.origin;
+        const Vec3 v = (dot(g, ray.dir) / a) * ray.dir - g;
+        const float r = w.spheres.radius(id);
+        any = r > 0.0f && r * r - dot(v, v) >= 0.0f;
+      }
+      live += any ? 1 : 0;
+    }
+  }
+  return known[key] =
+             static_cast<double>(live) / static_cast<double>(w.brute_rays.size() * batches);
+}
+
 void trace_rays(benchmark::State& state, const std::string& name, std::string_view scene,
                 RayKind kind, const Implementation& impl) {
   const Workload& w = workload(scene, kind);
@@ -81,25 +110,27 @@ void trace_rays(benchmark::State& state, const std::string& name, std::string_vi
     state.counters["width"] = static_cast<double>(impl.width);
     state.counters["tsc_per_sphere"] =
         static_cast<double>(elapsed_ticks) / (passes * ray_count * spheres);
+    state.counters["live_batch_fraction"] = live_batch_fraction(w, impl.width);
   }
 }
 
 void build(benchmark::State& state, std::string_view scene, const Builder& builder) {
   const Workload& w = workload(scene, RayKind::coherent);
+  const std::function<Built()> step = builder.prepare(w.spheres);
   std::size_t bytes = 0;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
-    Built built = builder.build(w.spheres);
-    state.SetIterationTime(
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    Built built = step();
+    const auto stop = std::chrono::steady_clock::now();
+    state.SetIterationTime(std::chrono::duration<double>(stop - start).count());
     bytes = built.bytes;
     // built is released here, outside the measured interval
   }
+  const auto spheres = static_cast<double>(w.spheres.size());
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(w.spheres.size()));
-  state.counters["spheres"] = static_cast<double>(w.spheres.size());
+  state.counters["spheres"] = spheres;
   state.counters["threads"] = builder.threads;
-  state.counters["bytes_per_sphere"] =
-      static_cast<double>(bytes) / static_cast<double>(w.spheres.size());
+  state.counters["bytes_per_sphere"] = static_cast<double>(bytes) / spheres;
 }
 
 std::string threads_suffix(int threads) {

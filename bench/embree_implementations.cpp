@@ -154,12 +154,14 @@ Implementation embree(std::string name, EmbreeTrace fn, int threads) {
 }
 
 Builder embree_builder(int threads) {
-  auto build = [threads](const SphereSoA& spheres) {
-    const long long before = embree_bytes;
-    SceneHandle scene = build_scene(spheres, threads);
-    return Built{scene, static_cast<std::size_t>(embree_bytes - before)};
+  auto prepare = [threads](const SphereSoA& spheres) -> std::function<Built()> {
+    return [threads, &spheres] {
+      const long long before = embree_bytes;
+      SceneHandle scene = build_scene(spheres, threads);
+      return Built{scene, static_cast<std::size_t>(embree_bytes - before)};
+    };
   };
-  return {"embree", threads, build};
+  return {"embree", threads, prepare};
 }
 
 }  // namespace

@@ -40,7 +40,9 @@ struct Built {
 struct Builder {
   std::string name;
   int threads = 1;
-  std::function<Built(const SphereSoA& spheres)> build;
+  /// Does the untimed part for these spheres (for a refit: the first build) and returns the
+  /// step that is timed.
+  std::function<std::function<Built()>(const SphereSoA& spheres)> prepare;
 };
 
 /// The scalar reference, each instruction set's kernel per ray and as a stream, the
@@ -52,6 +54,15 @@ std::vector<Implementation> kernel_implementations();
 std::vector<Implementation> embree_implementations();
 std::vector<Builder> embree_builders();
 #endif
+
+/// The core clock next to the time stamp counter, and the divider's throughput (square root
+/// and divide per vector width) that bounds the kernel: the inputs of docs/performance.md's
+/// cycles-per-batch section.
+void register_clock_benchmarks();
+
+/// sphray::SphereBVH: per ray, and the stream on one and all threads; its build and refit.
+std::vector<Implementation> bvh_implementations();
+std::vector<Builder> bvh_builders();
 
 /// Registers one benchmark per workload and implementation, and one per scene and builder,
 /// grouped by scene so each workload is made once.

@@ -1,7 +1,6 @@
 // sphray_bench: every implementation on every workload in one process, so the ratios between
 // them come from one machine state. Run with --benchmark_out=FILE.json --benchmark_out_format=json
 // and give that file to bench/report.py (bench/run.sh does both).
-#include <cstdint>
 #include <fstream>
 #include <string>
 
@@ -19,6 +18,8 @@ namespace {
 
 std::vector<Implementation> all_implementations() {
   std::vector<Implementation> impls = kernel_implementations();
+  for (Implementation& impl : bvh_implementations())
+    impls.push_back(std::move(impl));
 #if SPHRAY_BENCH_EMBREE
   for (Implementation& impl : embree_implementations())
     impls.push_back(std::move(impl));
@@ -27,9 +28,10 @@ std::vector<Implementation> all_implementations() {
 }
 
 std::vector<Builder> all_builders() {
-  std::vector<Builder> builders;
+  std::vector<Builder> builders = bvh_builders();
 #if SPHRAY_BENCH_EMBREE
-  builders = embree_builders();
+  for (Builder& b : embree_builders())
+    builders.push_back(std::move(b));
 #endif
   return builders;
 }
@@ -60,37 +62,6 @@ void describe_machine() {
 #endif
 }
 
-// The core clock, from a chain of dependent 64-bit multiplies (3 cycles each on Intel cores
-// since Nehalem and AMD cores since Zen; a chain of adds would not do, as recent Intel cores
-// fold dependent immediate adds), next to the time stamp counter's rate: with both, TSC
-// ticks per batch convert into core cycles per batch. The core may run slower under AVX-512.
-void core_clock(benchmark::State& state) {
-#if defined(__x86_64__)
-  constexpr std::int64_t kMultipliesPerLoop = 8;
-  constexpr std::int64_t kCyclesPerMultiply = 3;
-  constexpr std::int64_t kLoops = 1 << 20;
-  std::uint64_t tsc = 0;
-  for (auto _ : state) {
-    std::uint64_t x = 3;
-    const std::uint64_t start = __builtin_ia32_rdtsc();
-    for (std::int64_t i = 0; i < kLoops; ++i)
-      asm volatile(
-          "imul %0, %0\n\timul %0, %0\n\timul %0, %0\n\timul %0, %0\n\t"
-          "imul %0, %0\n\timul %0, %0\n\timul %0, %0\n\timul %0, %0"
-          : "+r"(x));
-    tsc += __builtin_ia32_rdtsc() - start;
-    benchmark::DoNotOptimize(x);
-  }
-  const auto cycles =
-      static_cast<double>(state.iterations() * kLoops * kMultipliesPerLoop * kCyclesPerMultiply);
-  state.counters["core_hz"] = benchmark::Counter(cycles, benchmark::Counter::kIsRate);
-  state.counters["tsc_hz"] =
-      benchmark::Counter(static_cast<double>(tsc), benchmark::Counter::kIsRate);
-#else
-  state.SkipWithError("x86 only");
-#endif
-}
-
 }  // namespace
 }  // namespace sphray::bench
 
@@ -99,7 +70,7 @@ int main(int argc, char** argv) {
   // Registered benchmarks hold references to these: they live until exit.
   static const std::vector<Implementation> implementations = all_implementations();
   static const std::vector<Builder> builders = all_builders();
-  benchmark::RegisterBenchmark("clock", core_clock)->UseRealTime();
+  register_clock_benchmarks();
   register_benchmarks(implementations, builders);
   describe_machine();
   benchmark::Initialize(&argc, argv);
