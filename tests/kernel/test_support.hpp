@@ -6,11 +6,17 @@
 
 #include <cmath>
 #include <cstdint>
+#include <ostream>
 #include <random>
 #include <string>
 #include <vector>
 
 #include <sphray/sphray.hpp>
+
+namespace sphray {
+// Names instruction sets in gtest's output ("GetParam() = avx2").
+inline void PrintTo(Isa isa, std::ostream* os) { *os << isa_name(isa); }
+}  // namespace sphray
 
 namespace sphray::test {
 
