@@ -24,25 +24,33 @@ namespace sphray::detail {
 namespace {
 
 constexpr float kInf = INFINITY;
+// Bins per axis: 32 on large ranges, 8 below kFewBinsBelow spheres, where the bins' setup and
+// sweep would cost more than the binning pass itself.
 constexpr std::size_t kBins = 32;
+constexpr std::size_t kFewBins = 16;
+constexpr std::size_t kFewBinsBelow = 64;
 // Below this many spheres a range is handled by one thread: the task costs more than it saves.
 constexpr std::size_t kParallelMin = 16384;
 // Past this depth every split is a median split, which at least halves a range: with ids
 // below 2^32 the tree then stays within kBvhMaxDepth levels.
 constexpr std::size_t kSahDepth = kBvhMaxDepth / 2;
 
+// Points and boxes carry a fourth, unused coordinate so that growing a box is one 4-wide
+// min and max (the builder's innermost operation).
+using Point = std::array<float, 4>;
+
 struct Box {
-  std::array<float, 3> lo{kInf, kInf, kInf};
-  std::array<float, 3> hi{-kInf, -kInf, -kInf};
+  Point lo{kInf, kInf, kInf, kInf};
+  Point hi{-kInf, -kInf, -kInf, -kInf};
 
   void grow(const Box& b) {
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 4; ++k) {
       lo[k] = std::min(lo[k], b.lo[k]);
       hi[k] = std::max(hi[k], b.hi[k]);
     }
   }
-  void grow(const std::array<float, 3>& p) {
-    for (int k = 0; k < 3; ++k) {
+  void grow(const Point& p) {
+    for (int k = 0; k < 4; ++k) {
       lo[k] = std::min(lo[k], p[k]);
       hi[k] = std::max(hi[k], p[k]);
     }
@@ -81,7 +89,7 @@ Box sphere_box(float x, float y, float z, float r) {
 // each pass a random gather, several times slower at a million spheres).
 struct Prim {
   Box box;
-  std::array<float, 3> centroid;  // the centre; 0 for an invalid sphere
+  Point centroid;  // the centre; 0 for an invalid sphere
   std::uint32_t id;
 };
 using Prims = std::vector<Prim>;
@@ -149,12 +157,11 @@ struct Bin {
 struct Split {
   int axis = -1;
   std::size_t bin = 0;  // spheres in bins <= bin go left
+  std::size_t bins = 0;
   float scale = 0.0f;
   float origin = 0.0f;
   Bin left, right;  // what each side will hold
 };
-
-using Bins = std::array<std::array<Bin, kBins>, 3>;
 
 class Builder {
  public:
@@ -234,11 +241,14 @@ class Builder {
 
   std::pair<Cluster, Cluster> split(const Cluster& c, std::size_t depth) {
     if (depth < kSahDepth) {
-      const Split s = best_sah_split(c);
+      const Split s =
+          c.size() < kFewBinsBelow ? best_sah_split<kFewBins>(c) : best_sah_split<kBins>(c);
       if (s.axis >= 0) {
         Prim* first = p_.data() + c.begin;
         const Prim* mid = std::partition(first, p_.data() + c.end, [&](const Prim& p) {
-          return bin_of(p.centroid[s.axis], s.origin, s.scale) <= s.bin;
+          return (s.bins == kBins
+                      ? bin_of<kBins>(p.centroid[s.axis], s.origin, s.scale)
+                      : bin_of<kFewBins>(p.centroid[s.axis], s.origin, s.scale)) <= s.bin;
         });
         // The bins already hold both sides' bounds: no pass over the spheres to find them.
         const std::size_t m = c.begin + s.left.count;
@@ -251,11 +261,12 @@ class Builder {
     return {cluster(c.begin, mid), cluster(mid, c.end)};
   }
 
+  template <std::size_t Count>
   static std::size_t bin_of(float x, float origin, float scale) {
     const float b = (x - origin) * scale;
     // !(b > 0) also catches NaN.
     if (!(b > 0.0f)) return 0;
-    return std::min(static_cast<std::size_t>(b), kBins - 1);
+    return std::min(static_cast<std::size_t>(b), Count - 1);
   }
 
   // Cost of a side: its area times its leaf batches. A leaf of W spheres costs what a leaf of
@@ -264,13 +275,15 @@ class Builder {
     return box.half_area() * static_cast<float>((count + width_ - 1) / width_);
   }
 
+  template <std::size_t Count>
   Split best_sah_split(const Cluster& c) const {
+    using Bins = std::array<std::array<Bin, Count>, 3>;
     std::array<float, 3> scale{}, origin{};
     for (int k = 0; k < 3; ++k) {
       origin[k] = c.centroid.lo[k];
       const float extent = c.centroid.hi[k] - c.centroid.lo[k];
-      // Slightly under kBins / extent, so the largest centroid lands in the last bin.
-      const float s = static_cast<float>(kBins) * (1.0f - 0x1p-20f) / extent;
+      // Slightly under Count / extent, so the largest centroid lands in the last bin.
+      const float s = static_cast<float>(Count) * (1.0f - 0x1p-20f) / extent;
       scale[k] = extent > 0.0f && std::isfinite(s) ? s : 0.0f;
     }
     const Bins bins = reduce_range(
@@ -279,7 +292,7 @@ class Builder {
           const Prim& p = p_[i];
           for (int k = 0; k < 3; ++k) {
             if (scale[k] == 0.0f) continue;
-            Bin& bin = b[k][bin_of(p.centroid[k], origin[k], scale[k])];
+            Bin& bin = b[k][bin_of<Count>(p.centroid[k], origin[k], scale[k])];
             bin.box.grow(p.box);
             bin.centroid.grow(p.centroid);
             ++bin.count;
@@ -287,7 +300,7 @@ class Builder {
         },
         [](Bins& a, const Bins& b) {
           for (int k = 0; k < 3; ++k)
-            for (std::size_t i = 0; i < kBins; ++i)
+            for (std::size_t i = 0; i < Count; ++i)
               a[k][i].grow(b[k][i]);
         });
     Split best;
@@ -295,21 +308,21 @@ class Builder {
     for (int k = 0; k < 3; ++k) {
       if (scale[k] == 0.0f) continue;
       // right[i]: the bins above i, accumulated from the top.
-      std::array<Bin, kBins> right;
+      std::array<Bin, Count> right;
       Bin above;
-      for (std::size_t i = kBins - 1; i > 0; --i) {
+      for (std::size_t i = Count - 1; i > 0; --i) {
         above.grow(bins[k][i]);
         right[i - 1] = above;
       }
       Bin left;
-      for (std::size_t i = 0; i + 1 < kBins; ++i) {
+      for (std::size_t i = 0; i + 1 < Count; ++i) {
         left.grow(bins[k][i]);
         if (left.count == 0 || right[i].count == 0) continue;
         const float cost =
             side_cost(left.box, left.count) + side_cost(right[i].box, right[i].count);
         if (cost < best_cost) {
           best_cost = cost;
-          best = {k, i, scale[k], origin[k], left, right[i]};
+          best = {k, i, Count, scale[k], origin[k], left, right[i]};
         }
       }
     }
@@ -418,8 +431,7 @@ Prims make_prims(SphereView v) {
   parallel_for(v.count, [&](std::size_t i) {
     const Box box = sphere_box(v.cx[i], v.cy[i], v.cz[i], v.radius[i]);
     p[i] = {box,
-            box.empty() ? std::array<float, 3>{0.0f, 0.0f, 0.0f}
-                        : std::array<float, 3>{v.cx[i], v.cy[i], v.cz[i]},
+            box.empty() ? Point{0.0f, 0.0f, 0.0f, 0.0f} : Point{v.cx[i], v.cy[i], v.cz[i], 0.0f},
             static_cast<std::uint32_t>(i)};
   });
   return p;
