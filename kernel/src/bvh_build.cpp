@@ -35,22 +35,20 @@ constexpr std::size_t kParallelMin = 16384;
 // below 2^32 the tree then stays within kBvhMaxDepth levels.
 constexpr std::size_t kSahDepth = kBvhMaxDepth / 2;
 
-// Points and boxes carry a fourth, unused coordinate so that growing a box is one 4-wide
-// min and max (the builder's innermost operation).
-using Point = std::array<float, 4>;
+using Point = std::array<float, 3>;
 
 struct Box {
-  Point lo{kInf, kInf, kInf, kInf};
-  Point hi{-kInf, -kInf, -kInf, -kInf};
+  Point lo{kInf, kInf, kInf};
+  Point hi{-kInf, -kInf, -kInf};
 
   void grow(const Box& b) {
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 3; ++k) {
       lo[k] = std::min(lo[k], b.lo[k]);
       hi[k] = std::max(hi[k], b.hi[k]);
     }
   }
   void grow(const Point& p) {
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 3; ++k) {
       lo[k] = std::min(lo[k], p[k]);
       hi[k] = std::max(hi[k], p[k]);
     }
@@ -430,8 +428,7 @@ Prims make_prims(SphereView v) {
   Prims p(v.count);
   parallel_for(v.count, [&](std::size_t i) {
     const Box box = sphere_box(v.cx[i], v.cy[i], v.cz[i], v.radius[i]);
-    p[i] = {box,
-            box.empty() ? Point{0.0f, 0.0f, 0.0f, 0.0f} : Point{v.cx[i], v.cy[i], v.cz[i], 0.0f},
+    p[i] = {box, box.empty() ? Point{0.0f, 0.0f, 0.0f} : Point{v.cx[i], v.cy[i], v.cz[i]},
             static_cast<std::uint32_t>(i)};
   });
   return p;
