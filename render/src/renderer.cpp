@@ -173,6 +173,19 @@ void check_options(const RenderOptions& o) {
 
 }  // namespace
 
+constexpr std::array<std::string_view, 3> kAccelNames = {"auto", "bvh", "brute"};
+
+std::vector<std::string> accel_names() {
+  return {kAccelNames.begin(), kAccelNames.end()};
+}
+
+std::optional<Accel> parse_accel(std::string_view name) {
+  for (std::size_t i = 0; i < kAccelNames.size(); ++i) {
+    if (kAccelNames[i] == name) return static_cast<Accel>(i);
+  }
+  return std::nullopt;
+}
+
 std::vector<std::string> mode_names() {
   return {kModeNames.begin(), kModeNames.end()};
 }
@@ -204,7 +217,10 @@ Image render(const Scene& scene, const RenderOptions& options, const Progress& p
              RenderStats* stats) {
   check_options(options);
   Camera camera(scene.camera, options.width, options.height);
-  SceneQueries queries(scene.spheres);
+  auto build_start = std::chrono::steady_clock::now();
+  SceneQueries queries(scene.spheres, options.accel, options.threads);
+  auto build_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
   Shader shader(scene, queries, options.mode);
   Image image{options.width, options.height,
               std::vector<std::uint8_t>(3 * static_cast<std::size_t>(options.width) *
@@ -231,6 +247,8 @@ Image render(const Scene& scene, const RenderOptions& options, const Progress& p
 
   if (stats != nullptr) {
     stats->seconds = seconds;
+    stats->build_seconds = queries.uses_bvh() ? build_seconds : 0.0;
+    stats->bvh = queries.uses_bvh();
     stats->camera_rays = static_cast<std::uint64_t>(options.width) *
                          static_cast<std::uint64_t>(options.height) *
                          static_cast<std::uint64_t>(options.spp);

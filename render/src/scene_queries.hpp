@@ -1,27 +1,46 @@
 // How the renderer asks the kernel about a scene's spheres: the single place that chooses the
-// query structure. Today that is brute force over the SphereSoA's view; when the kernel offers
-// sphray::SphereBVH, build it in the constructor (for scenes above a few hundred spheres) and
-// route the three calls below through it. Nothing else in render/ needs to change.
+// query structure. Above a few dozen spheres a sphray::SphereBVH answers (the same hits as brute
+// force, by the kernel's contract); below, or when asked, brute force over the SphereSoA's view.
+// surface() always reads the view: the tree reports the view's ids.
 #pragma once
 
+#include <optional>
 #include <span>
 
+#include "sphray/render/renderer.hpp"
 #include "sphray/sphray.hpp"
 
 namespace sphray::render {
 
 class SceneQueries {
  public:
-  explicit SceneQueries(const SphereSoA& spheres) : view_(spheres.view()) {}
+  /// From this many spheres on, Accel::automatic builds a BVH.
+  static constexpr std::size_t kBvhFromSpheres = 32;
+
+  /// threads: how many the BVH builder may use, 0 for all (the tree is the same either way).
+  SceneQueries(const SphereSoA& spheres, Accel accel, int threads = 0) : view_(spheres.view()) {
+    bool bvh =
+        accel == Accel::bvh || (accel == Accel::automatic && spheres.size() >= kBvhFromSpheres);
+    if (bvh) bvh_.emplace(view_, BvhBuildOptions{static_cast<unsigned>(threads)});
+  }
+
+  bool uses_bvh() const { return bvh_.has_value(); }
 
   void intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
-    sphray::intersect(view_, rays, hits);
+    if (bvh_) {
+      sphray::intersect(*bvh_, rays, hits);
+    } else {
+      sphray::intersect(view_, rays, hits);
+    }
   }
-  bool occluded(const Ray& ray) const { return sphray::occluded(view_, ray); }
+  bool occluded(const Ray& ray) const {
+    return bvh_ ? sphray::occluded(*bvh_, ray) : sphray::occluded(view_, ray);
+  }
   Surface surface(const Ray& ray, const Hit& hit) const { return sphray::surface(view_, ray, hit); }
 
  private:
   SphereView view_;
+  std::optional<SphereBVH> bvh_;
 };
 
 }  // namespace sphray::render

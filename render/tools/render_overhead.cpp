@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "scene_queries.hpp"
 #include "sphray/render/camera.hpp"
 #include "sphray/render/renderer.hpp"
 #include "sphray/render/scene.hpp"
@@ -56,13 +57,14 @@ std::vector<Ray> camera_rays(const Camera& camera) {
 }
 
 // The kernel on the whole stream, cut into tile-sized pieces shared among the arena's threads.
-void stream_in_tiles(SphereView view, const std::vector<Ray>& rays, std::vector<Hit>& hits) {
+void stream_in_tiles(const SceneQueries& queries, const std::vector<Ray>& rays,
+                     std::vector<Hit>& hits) {
   constexpr std::size_t kTileRays = kTileSize * kTileSize;
   std::size_t pieces = (rays.size() + kTileRays - 1) / kTileRays;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pieces, 1), [&](const auto& range) {
     for (std::size_t p = range.begin(); p != range.end(); ++p) {
       std::size_t first = p * kTileRays, n = std::min(kTileRays, rays.size() - first);
-      intersect(view, std::span(rays.data() + first, n), std::span(hits.data() + first, n));
+      queries.intersect(std::span(rays.data() + first, n), std::span(hits.data() + first, n));
     }
   });
 }
@@ -82,54 +84,59 @@ int main(int argc, char** argv) {
 
   Scene scene = load_scene_or_preset(scene_name);
   Camera camera(scene.camera, width, height);
-  SphereView view = scene.spheres.view();
   std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   std::vector<Ray> rays = camera_rays(camera);
   std::vector<Hit> hits(n);
   std::vector<std::uint8_t> rgb(3 * n);
   int all = tbb::task_arena(tbb::task_arena::automatic).max_concurrency();
   int many = threads > 0 ? threads : all;
-
-  std::printf("%s, %zu spheres, %dx%d normals, spp 1, isa %s\n", scene.name.c_str(),
-              scene.spheres.size(), width, height, std::string(isa_name(active_isa())).c_str());
-  std::printf("1 thread:\n");
-  report("camera rays alone", n, best_seconds(repeat, [&] { rays = camera_rays(camera); }));
-  double kernel_1 = best_seconds(repeat, [&] { intersect(view, rays, hits); });
-  report("kernel stream alone (one call)", n, kernel_1);
-  report("shading alone (surface, 0.5(n+1) or sky, bytes)", n, best_seconds(repeat, [&] {
-           for (std::size_t i = 0; i < n; ++i) {
-             Vec3 c = hits[i].found()
-                          ? 0.5f * (surface(view, rays[i], hits[i]).normal + Vec3{1, 1, 1})
-                          : sky(rays[i]);
-             rgb[3 * i] = to_byte(c.x);
-             rgb[3 * i + 1] = to_byte(c.y);
-             rgb[3 * i + 2] = to_byte(c.z);
-           }
-         }));
-  RenderOptions options;
-  options.width = width;
-  options.height = height;
-  auto render_seconds = [&](int t) {
-    options.threads = t;
-    double best = 1e300;
-    for (int i = 0; i < repeat; ++i) {
-      RenderStats stats;
-      sphray::render::render(scene, options, {}, &stats);
-      best = std::min(best, stats.seconds);
-    }
-    return best;
-  };
-  double render_1 = render_seconds(1);
-  report("render (tiles: rays, kernel, shading)", n, render_1);
-  std::printf("  render / kernel rate: %.2f\n", kernel_1 / render_1);
-
-  std::printf("%d threads:\n", many);
   tbb::task_arena arena(many);
-  double kernel_n =
-      best_seconds(repeat, [&] { arena.execute([&] { stream_in_tiles(view, rays, hits); }); });
-  report("kernel stream alone (tile-sized calls)", n, kernel_n);
-  double render_n = render_seconds(many);
-  report("render", n, render_n);
-  std::printf("  render / kernel rate: %.2f\n", kernel_n / render_n);
+  std::printf("%s, %zu spheres, %dx%d normals, spp 1, isa %s, best of %d\n", scene.name.c_str(),
+              scene.spheres.size(), width, height, std::string(isa_name(active_isa())).c_str(),
+              repeat);
+  report("camera rays alone, 1 thread", n,
+         best_seconds(repeat, [&] { rays = camera_rays(camera); }));
+
+  for (Accel accel : {Accel::brute_force, Accel::bvh}) {
+    SceneQueries queries(scene.spheres, accel);
+    std::printf("%s:\n", accel == Accel::bvh ? "bvh" : "brute force");
+    auto shade_all = [&] {
+      for (std::size_t i = 0; i < n; ++i) {
+        Vec3 c = hits[i].found() ? 0.5f * (queries.surface(rays[i], hits[i]).normal + Vec3{1, 1, 1})
+                                 : sky(rays[i]);
+        rgb[3 * i] = to_byte(c.x);
+        rgb[3 * i + 1] = to_byte(c.y);
+        rgb[3 * i + 2] = to_byte(c.z);
+      }
+    };
+    RenderOptions options;
+    options.width = width;
+    options.height = height;
+    options.accel = accel;
+    auto render_seconds = [&](int t) {
+      options.threads = t;
+      double best = 1e300;
+      for (int i = 0; i < repeat; ++i) {
+        RenderStats stats;
+        sphray::render::render(scene, options, {}, &stats);
+        best = std::min(best, stats.seconds);
+      }
+      return best;
+    };
+    for (int t : {1, many}) {
+      double kernel = best_seconds(repeat, [&] {
+        tbb::task_arena(t).execute([&] { stream_in_tiles(queries, rays, hits); });
+      });
+      std::string label = std::to_string(t) + (t == 1 ? " thread" : " threads");
+      report(("kernel stream alone (tile-sized calls), " + label).c_str(), n, kernel);
+      if (t == 1)
+        report("shading alone (surface, 0.5(n+1) or sky, bytes)", n,
+               best_seconds(repeat, shade_all));
+      double whole = render_seconds(t);
+      report(("render, " + label).c_str(), n, whole);
+      std::printf("  render rate / kernel rate: %.2f\n", kernel / whole);
+      if (t == many) break;
+    }
+  }
   return 0;
 }

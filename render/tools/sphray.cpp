@@ -27,6 +27,7 @@ constexpr int kExitUsage = 2;
 struct RenderArgs {
   std::string scene = "rtiow-final";
   std::string mode = "normals";
+  std::string accel = "auto";
   int width = 0, height = 0;  // 0: the scene's own size
   int spp = 4;
   int threads = 0;
@@ -100,10 +101,12 @@ std::string format_rate(double per_second) {
 void print_summary(const RenderArgs& args, const RenderOptions& options, const RenderStats& s) {
   std::uint64_t rays = s.camera_rays + s.shadow_rays;
   double rate = s.seconds > 0 ? static_cast<double>(rays) / s.seconds : 0.0;
-  std::printf("wrote %s: %dx%d, %d spp, %s, %.3f s, %s (%llu camera + %llu shadow rays)\n",
+  char accel[48] = "brute force";
+  if (s.bvh) std::snprintf(accel, sizeof accel, "bvh built in %.3f s", s.build_seconds);
+  std::printf("wrote %s: %dx%d, %d spp, %s, %.3f s, %s (%llu camera + %llu shadow rays, %s)\n",
               args.output.c_str(), options.width, options.height, options.spp, args.mode.c_str(),
               s.seconds, format_rate(rate).c_str(), static_cast<unsigned long long>(s.camera_rays),
-              static_cast<unsigned long long>(s.shadow_rays));
+              static_cast<unsigned long long>(s.shadow_rays), accel);
 }
 
 int run_render(const RenderArgs& args) {
@@ -122,6 +125,7 @@ int run_render(const RenderArgs& args) {
     options.spp = args.spp;
     options.threads = args.threads;
     options.seed = args.seed;
+    options.accel = *parse_accel(args.accel);  // CLI11 checked the name
     PendingImageFile output(args.output);
     remove_on_signal(output);
     RenderStats stats;
@@ -186,6 +190,11 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->capture_default_str();
   render.add_option("--seed", args.seed, "Seed of the sample jitter")->capture_default_str();
   render.add_option("-o,--output", args.output, "Output image, .png or .ppm")
+      ->capture_default_str();
+  render
+      .add_option("--accel", args.accel,
+                  "Sphere queries: a BVH from 32 spheres on (auto), always, or brute force")
+      ->check(CLI::IsMember(accel_names()))
       ->capture_default_str();
   render.add_flag("--quiet,-q", args.quiet, "No progress bar, no summary line");
 }

@@ -208,6 +208,8 @@ INSTANTIATE_TEST_SUITE_P(
                 "width, height in the scene, got unknown key \"lights\""},
         Refusal{"UnknownMode", "render -m glossy", "", 2,
                 "sphray: --mode: glossy not in {normals,flat,depth,id,shaded} (see sphray --help)"},
+        Refusal{"UnknownAccel", "render --accel kd-tree", "", 2,
+                "sphray: --accel: kd-tree not in {auto,bvh,brute} (see sphray --help)"},
         Refusal{"ZeroWidth", "render -W 0", "", 2,
                 "sphray: --width: Value 0 not in range 1 to 16384 (see sphray --help)"},
         Refusal{"NotANumber", "render --spp lots", "", 2,

@@ -178,6 +178,23 @@ TEST(Render, SameImageForAnyThreadCount) {
   }
 }
 
+// The kernel promises the BVH finds the same hits as brute force: the images must agree.
+TEST(Render, BvhAndBruteForceGiveTheSameImage) {
+  for (const char* name : {"rtiow-final", "random:3000"}) {
+    Scene scene = make_preset(name);
+    for (Mode mode : {Mode::id, Mode::shaded}) {
+      RenderOptions o = options(mode, 160, 90);
+      o.accel = Accel::brute_force;
+      Image brute = render(scene, o);
+      o.accel = Accel::bvh;
+      RenderStats stats;
+      Image bvh = render(scene, o, {}, &stats);
+      EXPECT_TRUE(stats.bvh);
+      EXPECT_EQ(brute.rgb, bvh.rgb) << name << " " << mode_name(mode);
+    }
+  }
+}
+
 TEST(Render, TheSeedMovesTheJitter) {
   Scene scene = make_preset("three");
   RenderOptions o = options(Mode::normals, 64, 36);

@@ -22,12 +22,21 @@ std::vector<std::string> mode_names();
 std::string_view mode_name(Mode mode);
 std::optional<Mode> parse_mode(std::string_view name);
 
+/// How the spheres are queried: a sphray::SphereBVH from a few dozen spheres on (automatic),
+/// always, or never (brute force over all spheres for every ray).
+enum class Accel { automatic, bvh, brute_force };
+
+/// "auto", "bvh", "brute", in that order.
+std::vector<std::string> accel_names();
+std::optional<Accel> parse_accel(std::string_view name);
+
 struct RenderOptions {
   Mode mode = Mode::normals;
   int width = 400, height = 225;
   int spp = 1;             // samples per pixel; 1 samples each pixel's centre, more are jittered
   std::uint64_t seed = 0;  // the jitter's seed
   int threads = 0;         // 0: as many as oneTBB offers
+  Accel accel = Accel::automatic;
 };
 
 /// 8-bit RGB, rows top to bottom, no padding.
@@ -38,6 +47,8 @@ struct Image {
 
 struct RenderStats {
   double seconds = 0;             // wall time of the tiles, scene and output excluded
+  double build_seconds = 0;       // building the BVH (before the tiles), 0 without one
+  bool bvh = false;               // whether a BVH answered the queries
   std::uint64_t camera_rays = 0;  // width * height * spp
   std::uint64_t shadow_rays = 0;  // occlusion queries (shaded mode)
 };
