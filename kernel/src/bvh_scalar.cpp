@@ -24,7 +24,12 @@ bool enters(const float* node, std::size_t w, std::size_t k, const Ray& ray, flo
     if (t0 > tnear) tnear = t0;
     if (t1 < tfar) tfar = t1;
   }
-  return tnear <= tfar * kExitScale && tnear <= tmax;
+  // Widened by 2 gamma(3) of each end's magnitude: scaling tfar alone is conservative only for
+  // tfar >= 0, and a negative tmin lets the ray meet boxes behind its origin.
+  constexpr float kShrink = 1.0f - (kExitScale - 1.0f);
+  tnear *= tnear >= 0.0f ? kShrink : kExitScale;
+  tfar *= tfar >= 0.0f ? kExitScale : kShrink;
+  return tnear <= tfar && tnear <= tmax;
 }
 
 // The rays query.hpp says miss everything. They must not reach the box test: a NaN origin makes

@@ -102,8 +102,15 @@ struct BvhTraversal {
     const Floats far_z = (plane(node, s.near_z ^ 1u) - s.oz) * s.inv_dz;
     tnear = max_or_second(near_x, max_or_second(near_y, max_or_second(near_z, s.tmin)));
     const Floats tfar = min_or_second(far_x, min_or_second(far_y, min_or_second(far_z, inf)));
+    // Ize's tnear <= tfar * (1 + 2 gamma(3)) is conservative only for tfar >= 0, but tmin may
+    // be negative and boxes then lie behind the origin: widen each end by 2 gamma(3) of its own
+    // magnitude instead, which holds for either sign (and keeps +-inf, never making NaN). The
+    // widened tnear is also what best_t is compared with, here and when the child is popped.
+    const Floats zero(0.0f), shrink(1.0f - 2.0f * kGamma3), grow(kExitScale);
+    tnear = tnear * xsimd::select(tnear >= zero, shrink, grow);
+    const Floats tfar_widened = tfar * xsimd::select(tfar >= zero, grow, shrink);
     // <= best_t, not <: a sphere at exactly best_t with a lower id still wins.
-    return (tnear <= tfar * Floats(kExitScale)) & (tnear <= best_t);
+    return (tnear <= tfar_widened) & (tnear <= best_t);
   }
 
   // One bit per lane, lane 0 in bit 0.

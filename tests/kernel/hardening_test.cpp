@@ -45,5 +45,34 @@ TEST(Hardening, InvalidRaysMissInTheScalarBvhTraversal) {
     }
 }
 
+// Fuzzer: with a negative tmin the ray meets boxes behind its origin, where Ize's conservative
+// slab test (tnear <= tfar * (1 + 2 gamma(3))) is not conservative: it shrank a negative tfar
+// and skipped the box of sphere 4, which brute force hits at t = -1. A SphereBVH must answer
+// exactly what brute force answers on the same instruction set.
+TEST(Hardening, BoxesBehindTheOriginAreNotSkipped) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float tiny = 0x1p-19f;
+  test::LooseSpheres spheres(0);
+  spheres.add({0, 1, 0}, 0);
+  spheres.add({0, 0, -3}, nan);
+  spheres.add({0, 0x1.3f6p+3f, -0x1.1ep-134f}, 0x1.7fcp+2f);
+  spheres.add({nan, 0, 0}, 0);
+  spheres.add({0, 0, -tiny}, tiny);
+  spheres.add({-tiny, -tiny, -tiny}, tiny);
+  spheres.add({-tiny, -tiny, -tiny}, tiny);
+  spheres.add({-0x1p-28f, 0, -2}, 0);
+  const float c = -0x1.999cp+6f;  // -102.40234375
+  const Ray ray{{c, c, c}, {c, c, c}, c};
+  for (Isa isa : supported_isas()) {
+    const Kernel& k = *find_kernel(isa);
+    const SphereBVH bvh(spheres.view(), isa);
+    const Hit brute = k.intersect(spheres.view(), ray), tree = intersect(bvh, ray);
+    EXPECT_TRUE(brute.found()) << isa_name(isa);
+    EXPECT_EQ(tree.id, brute.id) << isa_name(isa);
+    EXPECT_EQ(tree.t, brute.t) << isa_name(isa);
+    EXPECT_EQ(occluded(bvh, ray), brute.found()) << isa_name(isa);
+  }
+}
+
 }  // namespace
 }  // namespace sphray
