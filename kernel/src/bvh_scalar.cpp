@@ -68,11 +68,24 @@ SphereView one_sphere(const SphereView& v, std::size_t i) {
   return {v.cx + i, v.cy + i, v.cz + i, v.radius + i, 1, 0};
 }
 
+// Trees over fewer spheres than this hold one leaf: it is read directly, as brute force reads a
+// view, rather than by testing the root's mostly empty child boxes one by one.
+constexpr std::size_t kSingleLeafBelow = 8;
+
+// Visits the one leaf of a small tree, or every leaf the ray enters.
+template <class Leaf>
+void visit_leaves(const BvhData& bvh, const Ray& ray, const float& tmax, Leaf&& leaf) {
+  if (bvh.count < kSingleLeafBelow)
+    leaf(0, bvh.spheres.count);
+  else
+    visit(bvh, ray, tmax, leaf);
+}
+
 }  // namespace
 
 Hit scalar_bvh_intersect(const BvhData& bvh, const Ray& ray) {
   Hit best{ray.tmax, kNoHit};
-  visit(bvh, ray, best.t, [&](std::size_t first, std::size_t count) {
+  visit_leaves(bvh, ray, best.t, [&](std::size_t first, std::size_t count) {
     for (std::size_t i = first; i < first + count; ++i) {
       // The sphere's own hit within the ray's full interval, then the contract's order: the
       // smaller t, and on equal t the lower id.
@@ -88,7 +101,7 @@ Hit scalar_bvh_intersect(const BvhData& bvh, const Ray& ray) {
 
 bool scalar_bvh_occluded(const BvhData& bvh, const Ray& ray) {
   bool hit = false;
-  visit(bvh, ray, ray.tmax, [&](std::size_t first, std::size_t count) {
+  visit_leaves(bvh, ray, ray.tmax, [&](std::size_t first, std::size_t count) {
     for (std::size_t i = first; i < first + count && !hit; ++i)
       hit = scalar::occluded(one_sphere(bvh.spheres, i), ray);
     return hit;
