@@ -14,8 +14,9 @@ namespace sphray::render {
 
 class SceneQueries {
  public:
-  /// From this many spheres on, Accel::automatic builds a BVH.
-  static constexpr std::size_t kBvhFromSpheres = 32;
+  /// From this many spheres on, Accel::automatic builds a BVH: the measured crossover, where the
+  /// tree starts to beat the brute-force kernel (docs/bvh.md).
+  static constexpr std::size_t kBvhFromSpheres = 128;
 
   /// threads: how many the BVH builder may use, 0 for all (the tree is the same either way).
   SceneQueries(const SphereSoA& spheres, Accel accel, int threads = 0) : view_(spheres.view()) {

@@ -193,7 +193,7 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->capture_default_str();
   render
       .add_option("--accel", args.accel,
-                  "Sphere queries: a BVH from 32 spheres on (auto), always, or brute force")
+                  "Sphere queries: a BVH from 128 spheres on (auto), always, or brute force")
       ->check(CLI::IsMember(accel_names()))
       ->capture_default_str();
   render.add_flag("--quiet,-q", args.quiet, "No progress bar, no summary line");
