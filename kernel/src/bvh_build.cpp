@@ -125,6 +125,8 @@ T reduce_range(std::size_t begin, std::size_t end, const T& identity, Fold&& fol
           return a;
         });
   }
+#else
+  (void)join;  // one thread: nothing to join
 #endif
   T acc = identity;
   for (std::size_t i = begin; i < end; ++i)
