@@ -222,6 +222,13 @@ def machine_section(ctx, command):
         f"- Run: {ctx.get('date', '?')}, load average at start {load}",
         f"- Command: `{command}`",
     ]
+    cpus = ctx.get("num_cpus", 0)
+    busy = ctx.get("load_avg", [0])[0]
+    if cpus and busy > 0.5 * cpus:
+        lines += ["", f"**This run shared the machine with other work** (load average {busy:.1f} on {cpus} CPUs when it",
+                  "started): absolute rates and, above all, the scaling to more threads are understated and noisy.",
+                  "Re-run `bench/run.sh` on a quiet machine before quoting them; the cycles-per-batch figures",
+                  "are measured so that time taken by other processes does not count."]
     return "\n".join(lines)
 
 
@@ -353,8 +360,9 @@ def cycles_section(res):
             f"{k:.3f} cycles per time stamp counter tick (about {k * res.tsc_mhz / 1000:.2f} GHz with the TSC at {res.tsc_mhz / 1000:.2f} GHz)",
             "(the fastest of many short samples, so descheduled samples do not count). Cycles per batch below =",
             "TSC ticks per sphere test x batch width x that factor, single thread, per-ray query, on the",
-            "brute-force rays of each workload. AVX-512 code may run at a lower clock than the chain, which",
-            "makes its figure a slight overestimate."]
+            "brute-force rays of each workload, cut into chunks of about 2^14 tests, each chunk timed in",
+            "three passes and its fastest pass counted (so time lost to other processes does not count).",
+            "AVX-512 code may run at a lower clock than the chain, which makes its figure a slight overestimate."]
     dividers = [(name, res.instruction_cycles(f"{name}")) for name in
                 ("vsqrtps-ymm", "vdivps-ymm", "vsqrtps-zmm", "vdivps-zmm")]
     dividers = [(n, c) for n, c in dividers if c is not None]
@@ -368,8 +376,9 @@ def cycles_section(res):
         for isa, b in bounds.items():
             for path in ("early_out", "full"):
                 c = b[path]["counts"]
-                rows.append([isa, path.replace("_", "-"), c["instructions"], c["vector"], c["mul_class"],
-                             c["sqrt"] + c["div"], c["loads"], b[path]["cycles_per_batch"], b[path]["limited_by"]])
+                rows.append([isa, path.replace("_", "-")]
+                            + [f"{x:g}" for x in (c["instructions"], c["vector"], c["mul_class"], c["sqrt"] + c["div"], c["loads"])]
+                            + [b[path]["cycles_per_batch"], b[path]["limited_by"]])
         out += [table(header, rows)]
     out += ["", "Measured against the bound for each workload (the two paths' bounds weighted by the fraction",
             "of batches in which some lane's discriminant is non-negative, \"live\"):", ""]
@@ -469,14 +478,14 @@ def plot_rates(res, kind, path):
     scenes = res.random_scenes()
     x = [res.spheres[s] for s in scenes]
     fig, ax = plt.subplots(figsize=(8, 5))
-    for label, impl, t in columns(res):
-        if impl in ("dispatch", "dispatch-stream") and t == 1:
-            continue  # the same as the best instruction set's line
+    lines = [c for c in columns(res) if not (c[1] in ("dispatch", "dispatch-stream") and c[2] == 1)]
+    colours = plt.cm.tab20.colors  # more distinct colours than the default cycle of ten
+    for k, (label, impl, t) in enumerate(lines):  # dispatch on one thread: the best ISA's line
         y = [res.rate(s, kind, impl, t) for s in scenes]
         pts = [(a, b) for a, b in zip(x, y) if b is not None]
         if pts:
             style = "--" if "Embree" in label else "-"
-            ax.plot(*zip(*pts), style, marker="o", label=label)
+            ax.plot(*zip(*pts), style, marker="o", label=label, color=colours[(2 * k) % 20 + (2 * k) // 20])
     ax.set_xscale("log", base=2)
     ax.set_yscale("log")
     ax.set_xlabel("spheres (random:N scenes)")
