@@ -319,6 +319,33 @@ std::string parse_error_detail(const json::parse_error& e) {
   return colon == std::string::npos ? message : message.substr(colon + 2);
 }
 
+// Where a SAX pass over the text first fails. json::parse reports a number beyond double's range
+// ("1e400") as out_of_range 406, which carries no position; the SAX interface gives it one.
+class FirstError : public nlohmann::json_sax<json> {
+ public:
+  std::size_t offset() const { return offset_; }
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t position, const std::string&,
+                   const nlohmann::detail::exception&) override {
+    offset_ = position > 0 ? position - 1 : 0;
+    return false;
+  }
+
+ private:
+  std::size_t offset_ = 0;
+};
+
 std::string read_file(const std::filesystem::path& file) {
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec)) {
@@ -348,6 +375,13 @@ Scene parse_scene(std::string_view text, const std::string& source) {
     std::size_t offset = e.byte > 0 ? e.byte - 1 : 0;
     throw SceneError(source + ":" + line_column(text, offset) + ": expected valid JSON (" +
                      parse_error_detail(e) + ")");
+  } catch (const json::out_of_range& e) {
+    FirstError where;
+    json::sax_parse(text, &where);
+    const std::string message = e.what();  // "[json.exception.out_of_range.406] number ..."
+    throw SceneError(source + ":" + line_column(text, token_start(text, where.offset() + 1)) +
+                     ": expected a number within double's range (" +
+                     message.substr(message.find("] ") + 2) + ")");
   }
   try {
     return scene_from(root, source);
