@@ -1,0 +1,462 @@
+// Kernel fuzzer: bytes become spheres and rays (NaN, infinities, denormals, huge and tiny values,
+// zero radii and zero directions are all a byte away), and every instruction set this machine
+// runs, the dispatched queries and the BVH of each set must
+//   1. never read outside the sphere arrays: each view ends exactly where its allocation ends
+//      (AddressSanitizer poisons the next byte), views of every count 0..n start at every
+//      misalignment, and padded views promise exactly as much padding as exists;
+//   2. keep the contract's exact rules: invalid rays miss with t == tmax, invalid spheres and
+//      padding are never hit, a hit lies in (tmin, tmax), occluded() == intersect().found(),
+//      a stream equals its per-ray queries bit for bit, surface() gives a unit normal, and a
+//      BVH returns bit for bit what brute force returns on the same instruction set;
+//   3. agree with the scalar reference wherever float arithmetic can decide the answer. Each
+//      implementation's answer is checked against the exact geometry (long double, on the same
+//      float inputs) with a float error bound; where both scalar and SIMD pass, they agree up
+//      to what float cannot resolve. docs/robustness.md, "What agree means", states the bound.
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include <sphray/sphray.hpp>
+
+namespace {
+
+using namespace sphray;
+
+constexpr std::size_t kMaxSpheres = 40;
+constexpr std::size_t kMaxRays = 4;
+
+[[noreturn]] void fail(const char* what, std::size_t ray, std::size_t count, const char* impl) {
+  std::fprintf(stderr, "kernel fuzzer: %s (ray %zu, view of %zu spheres, %s)\n", what, ray, count,
+               impl);
+  std::abort();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Decoding: a selector byte picks the kind of float, so every special value is one byte away.
+
+class Bytes {
+ public:
+  Bytes(const std::uint8_t* data, std::size_t size) : p_(data), end_(data + size) {}
+  std::uint8_t byte() { return p_ < end_ ? *p_++ : 0; }
+  std::uint32_t u32() {
+    std::uint32_t v = 0;
+    for (int i = 0; i < 4; ++i)
+      v = v << 8 | byte();
+    return v;
+  }
+  bool empty() const { return p_ >= end_; }
+
+  float number() {
+    const std::uint8_t sel = byte();
+    const float sign = (sel & 0x80) ? -1.0f : 1.0f;
+    switch (sel & 0x0f) {
+      case 0:
+        return sign * 0.0f;
+      case 1:
+        return std::numeric_limits<float>::quiet_NaN();
+      case 2:
+        return sign * INFINITY;
+      case 3:  // denormal (or zero)
+        return std::bit_cast<float>((sel & 0x80u) << 24 | (u32() & 0x7fffffu));
+      case 4:  // huge: 2^64 .. 2^127
+        return sign * std::ldexp(1.0f + byte() / 256.0f, 64 + byte() % 64);
+      case 5:  // tiny normal: 2^-126 .. 2^-64
+        return sign * std::ldexp(1.0f + byte() / 256.0f, -126 + byte() % 63);
+      case 6:
+        return std::bit_cast<float>(u32());  // anything at all
+      case 7:
+        return sign * static_cast<float>(byte() % 16);
+      case 8:
+        return sign * std::numeric_limits<float>::max();
+      default: {  // ordinary geometry: 1/256 steps in [-128, 128), sometimes scaled by 2^k
+        const auto fixed = static_cast<std::int16_t>(byte() << 8 | byte());
+        const int scale = (sel & 0x70) == 0x70 ? static_cast<int>(byte() % 41) - 20 : 0;
+        return std::ldexp(static_cast<float>(fixed) / 256.0f, scale);
+      }
+    }
+  }
+  float radius() {
+    const float r = number();
+    // Mostly positive, so that spheres are hit; the selector still reaches 0, -0, NaN, -inf.
+    return (byte() & 3) == 0 ? r : std::fabs(r);
+  }
+
+ private:
+  const std::uint8_t* p_;
+  const std::uint8_t* end_;
+};
+
+struct Input {
+  std::vector<float> x, y, z, r;
+  std::vector<Ray> rays;
+  unsigned misalign = 0;     // floats before the first sphere, from a 64-byte boundary
+  bool padded = false;       // also test a view that promises padding
+  std::vector<float> pad_r;  // radii of that padding (all <= 0)
+};
+
+Input decode(const std::uint8_t* data, std::size_t size) {
+  Bytes in(data, size);
+  Input input;
+  const std::uint8_t head = in.byte();
+  const std::size_t n = in.byte() % (kMaxSpheres + 1);
+  const std::size_t rays = 1 + head % kMaxRays;
+  input.misalign = (head >> 2) % 16;
+  input.padded = head & 0x40;
+  for (std::size_t i = 0; i < rays; ++i) {
+    Ray ray{{in.number(), in.number(), in.number()}, {in.number(), in.number(), in.number()}};
+    const std::uint8_t bounds = in.byte();
+    if (bounds & 1) ray.tmin = in.number();
+    if (bounds & 2) ray.tmax = in.number();
+    input.rays.push_back(ray);
+  }
+  for (std::size_t i = 0; i < n && !in.empty(); ++i) {
+    input.x.push_back(in.number());
+    input.y.push_back(in.number());
+    input.z.push_back(in.number());
+    input.r.push_back(in.radius());
+  }
+  const float never[] = {0.0f, -0.0f, -1.0f, -INFINITY, -std::numeric_limits<float>::min()};
+  for (std::size_t i = 0; i < 16; ++i)
+    input.pad_r.push_back(never[in.byte() % 5]);
+  return input;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sphere arrays that end exactly where their allocation ends.
+
+// Four arrays of `count` floats, each preceded by `misalign` unused floats from a 64-byte
+// boundary, each allocated on its own with no slack: one float past the end is poisoned.
+class TightArrays {
+ public:
+  TightArrays(const Input& in, unsigned misalign, std::size_t extra, float pad_centre)
+      : count_(in.r.size() + extra) {
+    const std::vector<float>* src[4] = {&in.x, &in.y, &in.z, &in.r};
+    for (int k = 0; k < 4; ++k) {
+      void* p = nullptr;
+      const std::size_t bytes = (misalign + count_) * sizeof(float);
+      if (posix_memalign(&p, 64, std::max<std::size_t>(bytes, 1)) != 0) std::abort();
+      mem_[k] = static_cast<float*>(p);
+      data_[k] = mem_[k] + misalign;
+      std::copy(src[k]->begin(), src[k]->end(), data_[k]);
+      for (std::size_t i = src[k]->size(); i < count_; ++i)
+        data_[k][i] = k == 3 ? in.pad_r[i - src[k]->size()] : pad_centre;
+    }
+  }
+  ~TightArrays() {
+    for (float* p : mem_)
+      std::free(p);
+  }
+  TightArrays(const TightArrays&) = delete;
+  TightArrays& operator=(const TightArrays&) = delete;
+
+  // The last `count` spheres: the view ends at the end of the allocation whatever the count.
+  SphereView suffix(std::size_t count, std::size_t padding = 0) const {
+    const std::size_t from = count_ - padding - count;
+    return {data_[0] + from, data_[1] + from, data_[2] + from,
+            data_[3] + from, count,           padding == 0 ? 0 : count + padding};
+  }
+
+ private:
+  std::size_t count_;
+  float* mem_[4] = {};
+  float* data_[4] = {};
+};
+
+// ---------------------------------------------------------------------------------------------
+// The exact geometry of one ray and one sphere, from the same float inputs, in long double, and
+// what float arithmetic can and cannot decide about it.
+
+using LD = long double;
+constexpr LD kEps = 0x1p-24L;  // float's unit roundoff
+constexpr LD kSafety = 64;     // room for every operation of either formula (about 20)
+
+struct Truth {
+  bool valid = false;       // the contract's sphere validity (an invalid sphere is never hit)
+  bool resolvable = false;  // no intermediate of the float formula can overflow or underflow
+  bool disc_sure = false;   // float decides hit-or-miss of the line as the exact math does
+  bool line_hits = false;   // the exact discriminant is >= 0
+  LD near = 0, far = 0;     // exact roots (when line_hits)
+  LD tol = 0;               // bound on a float root's error, in units of t
+};
+
+bool valid_ray(const Ray& ray) {
+  const float a = dot(ray.dir, ray.dir);
+  return isfinite(ray.origin) && isfinite(ray.dir) && ray.tmin < ray.tmax && a >= 0x1p-126f &&
+         std::isfinite(a);
+}
+
+Truth truth(const Ray& ray, float cx, float cy, float cz, float r) {
+  Truth t;
+  t.valid =
+      std::isfinite(cx) && std::isfinite(cy) && std::isfinite(cz) && std::isfinite(r) && r > 0.0f;
+  if (!t.valid || !valid_ray(ray)) return t;
+  const LD gx = LD{cx} - ray.origin.x, gy = LD{cy} - ray.origin.y, gz = LD{cz} - ray.origin.z;
+  const LD dx = ray.dir.x, dy = ray.dir.y, dz = ray.dir.z;
+  const LD a = dx * dx + dy * dy + dz * dz, len_d = std::sqrt(a);
+  const LD b = gx * dx + gy * dy + gz * dz;
+  const LD k = b / a;
+  const LD vx = k * dx - gx, vy = k * dy - gy, vz = k * dz - gz;
+  const LD dist = std::sqrt(vx * vx + vy * vy + vz * vz);  // closest approach to the centre
+  const LD rr = r, disc = (rr - dist) * (rr + dist);
+  const LD g = std::sqrt(gx * gx + gy * gy + gz * gz);
+  // Float's error on g = c - o is relative to g itself, so the scale of the problem is the
+  // larger of |g| and r, not the size of the coordinates.
+  const LD scale = std::max(g, rr);
+  constexpr LD kBig = LD{std::numeric_limits<float>::max()} / 1024, kSmall = 0x1p-100L;
+  t.resolvable = scale * scale < kBig && scale * len_d < kBig && scale / len_d < kBig &&
+                 a * scale * scale < kBig && scale * scale > kSmall && scale * len_d > kSmall &&
+                 scale / len_d > kSmall;
+  if (!t.resolvable) return t;
+  const LD disc_err = kSafety * kEps * scale * (rr + dist + scale * 0x1p-20L);
+  t.disc_sure = std::fabs(disc) > disc_err;
+  t.line_hits = disc >= 0;
+  if (!t.line_hits) return t;
+  const LD h = std::sqrt(disc);  // half the chord
+  const LD q = b + std::copysign(std::sqrt(a * disc), b);
+  const LD c = (g - rr) * (g + rr);
+  const LD t0 = q == 0 ? 0 : c / q, t1 = q / a;
+  t.near = std::min(t0, t1);
+  t.far = std::max(t0, t1);
+  const LD along = std::fabs(b) / len_d;
+  const LD t_scale = std::max(std::fabs(t.near), std::fabs(t.far)) * len_d + scale;
+  t.tol = kSafety * kEps * t_scale * (1 + scale / h) * (1 + scale / (along + h)) / len_d;
+  return t;
+}
+
+// What an implementation may answer for one sphere.
+struct Allowed {
+  bool must_hit = false;  // float cannot miss it
+  LD latest = INFINITY;   // when must_hit: the largest t float can put that hit at
+};
+
+bool clearly_inside(LD t, LD tol, const Ray& ray) {
+  return t - tol > LD{ray.tmin} && t + tol < LD{ray.tmax};
+}
+
+Allowed allowed(const Truth& s, const Ray& ray) {
+  Allowed a;
+  if (!s.valid || !s.resolvable || !s.disc_sure || !s.line_hits) return a;
+  const LD lo = LD{ray.tmin};
+  // Which root the kernel takes depends on near > tmin; close to tmin either may be taken.
+  const bool near_sure_in = s.near - s.tol > lo, near_sure_out = s.near + s.tol <= lo;
+  if (near_sure_in)
+    a.must_hit = clearly_inside(s.near, s.tol, ray);
+  else if (near_sure_out)
+    a.must_hit = clearly_inside(s.far, s.tol, ray);
+  a.latest = (near_sure_in ? s.near : s.far) + s.tol;
+  return a;
+}
+
+bool may_hit_at(const Truth& s, const Ray& ray, float t) {
+  if (!s.valid) return false;
+  if (!s.resolvable || !s.disc_sure) return true;  // float cannot decide: any t in range
+  if (!s.line_hits) return false;
+  const LD tl = t;
+  const bool near_ok = std::fabs(tl - s.near) <= s.tol && s.near + s.tol > LD{ray.tmin};
+  const bool far_ok = std::fabs(tl - s.far) <= s.tol && s.near - s.tol <= LD{ray.tmin};
+  return near_ok || far_ok;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The checks.
+
+struct Case {
+  const Ray& ray;
+  std::size_t index;  // of the ray, for messages
+  SphereView view;
+  std::span<const Truth> truths;  // truths[i] for sphere i of the view
+};
+
+// The contract's exact rules for one answer, and its agreement with the exact geometry.
+void check_hit(const Case& c, const Hit& hit, const char* impl) {
+  const std::size_t n = c.view.count;
+  if (!valid_ray(c.ray)) {
+    if (hit.found() ||
+        std::bit_cast<std::uint32_t>(hit.t) != std::bit_cast<std::uint32_t>(c.ray.tmax))
+      fail("an invalid ray did not miss with t == tmax", c.index, n, impl);
+    return;
+  }
+  if (!hit.found()) {
+    if (std::bit_cast<std::uint32_t>(hit.t) != std::bit_cast<std::uint32_t>(c.ray.tmax))
+      fail("a miss did not report t == tmax", c.index, n, impl);
+    for (std::size_t i = 0; i < n; ++i)
+      if (allowed(c.truths[i], c.ray).must_hit)
+        fail("missed a sphere that float arithmetic cannot miss", c.index, n, impl);
+    return;
+  }
+  if (hit.id >= n) fail("hit an id outside the view (padding?)", c.index, n, impl);
+  if (!(hit.t > c.ray.tmin && hit.t < c.ray.tmax))
+    fail("hit outside (tmin, tmax)", c.index, n, impl);
+  const Truth& s = c.truths[hit.id];
+  if (!s.valid) fail("hit an invalid sphere", c.index, n, impl);
+  if (!may_hit_at(s, c.ray, hit.t)) fail("t is not a root of the hit sphere", c.index, n, impl);
+  const LD tol = s.resolvable && s.disc_sure ? s.tol : LD{INFINITY};
+  // The hit's exact t may be as low as hit.t - tol; a sphere float must hit before that is a
+  // sphere the answer passed over.
+  for (std::size_t i = 0; i < n; ++i) {
+    const Allowed a = allowed(c.truths[i], c.ray);
+    if (i != hit.id && a.must_hit && a.latest < LD{hit.t} - tol)
+      fail("a clearly closer sphere was passed over", c.index, n, impl);
+  }
+}
+
+void check_surface(const Case& c, const Hit& hit, const char* impl) {
+  if (!hit.found()) return;
+  const Surface s = surface(c.view, c.ray, hit);
+  const LD len = std::sqrt(LD{s.normal.x} * s.normal.x + LD{s.normal.y} * s.normal.y +
+                           LD{s.normal.z} * s.normal.z);
+  if (!(std::fabs(len - 1) <= 1e-5L))
+    fail("surface() normal is not unit length", c.index, c.view.count, impl);
+}
+
+bool same(const Hit& a, const Hit& b) {
+  return a.id == b.id && std::bit_cast<std::uint32_t>(a.t) == std::bit_cast<std::uint32_t>(b.t);
+}
+
+void expect_same(const Hit& a, const Hit& b, const char* what, std::size_t ray, std::size_t count,
+                 const char* impl) {
+  if (same(a, b)) return;
+  std::fprintf(stderr, "id %u t %a against id %u t %a\n", a.id, a.t, b.id, b.t);
+  fail(what, ray, count, impl);
+}
+
+struct Tally {
+  unsigned long long answers = 0, equal_to_scalar = 0, same_id_t_differs = 0, other_id = 0;
+  unsigned long long bvh_answers = 0, bvh_undecidable_differs = 0;
+};
+Tally tally;
+
+void check_kernel(const Kernel& k, const std::vector<Ray>& rays, SphereView view,
+                  const std::vector<std::vector<Truth>>& truths, std::size_t first) {
+  const char* name = isa_name(k.isa).data();
+  std::vector<Hit> stream(rays.size());
+  k.intersect_stream(view, rays.data(), stream.data(), rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Case c{rays[i], i, view, std::span(truths[i]).subspan(first, view.count)};
+    const Hit hit = k.intersect(view, rays[i]);
+    expect_same(hit, stream[i], "stream differs from the per-ray query", i, view.count, name);
+    if (k.occluded(view, rays[i]) != hit.found())
+      fail("occluded() differs from intersect().found()", i, view.count, name);
+    check_hit(c, hit, name);
+    check_surface(c, hit, name);
+    const Hit ref = scalar::intersect(view, rays[i]);
+    ++tally.answers;
+    if (same(hit, ref))
+      ++tally.equal_to_scalar;
+    else if (hit.id == ref.id)
+      ++tally.same_id_t_differs;
+    else
+      ++tally.other_id;
+  }
+}
+
+// Whether float arithmetic decides every sphere for this ray: no overflow or underflow, and
+// no ray within rounding of grazing a sphere.
+bool decidable(std::span<const Truth> truths) {
+  for (const Truth& s : truths)
+    if (s.valid && (!s.resolvable || !s.disc_sure)) return false;
+  return true;
+}
+
+// A tree must answer what brute force answers on the same set, bit for bit, wherever float
+// decides every sphere. Where it does not (a sphere so small or so far that its square leaves
+// float's range, a ray grazing within rounding), the brute-force kernel's answer is itself
+// rounding noise, which the box test cannot reproduce; the tree's answer must then pass the
+// same checks as every other answer.
+void check_bvh(const Kernel& k, const std::vector<Ray>& rays, SphereView view,
+               const std::vector<std::vector<Truth>>& truths, const SphereBVH& bvh) {
+  const char* name = isa_name(k.isa).data();
+  std::vector<Hit> stream(rays.size());
+  intersect(bvh, rays, stream);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Hit brute = k.intersect(view, rays[i]);
+    const Hit tree = intersect(bvh, rays[i]);
+    expect_same(tree, stream[i], "the BVH stream differs from its per-ray query", i, view.count,
+                name);
+    if (occluded(bvh, rays[i]) != tree.found())
+      fail("the BVH's occluded() differs from its intersect()", i, view.count, name);
+    check_hit({rays[i], i, view, truths[i]}, tree, name);
+    ++tally.bvh_answers;
+    if (decidable(truths[i]))
+      expect_same(tree, brute, "the BVH differs from brute force on its set", i, view.count, name);
+    else if (!same(tree, brute))
+      ++tally.bvh_undecidable_differs;
+  }
+}
+
+void report() {
+  std::fprintf(stderr,
+               "kernel fuzzer: %llu answers checked: %llu equal to the scalar reference bit for "
+               "bit, %llu same sphere with t within the bound, %llu another sphere (tie or "
+               "undecidable in float); %llu BVH answers, %llu of them (rays float cannot "
+               "decide) differing from brute force\n",
+               tally.answers, tally.equal_to_scalar, tally.same_id_t_differs, tally.other_id,
+               tally.bvh_answers, tally.bvh_undecidable_differs);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  std::atexit(report);
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const Input in = decode(data, size);
+  const std::size_t n = in.r.size();
+  // truths[ray][sphere], computed once for the n spheres; a view of the last m spheres uses
+  // the entries from n - m on.
+  std::vector<std::vector<Truth>> truths(in.rays.size());
+  for (std::size_t i = 0; i < in.rays.size(); ++i)
+    for (std::size_t s = 0; s < n; ++s)
+      truths[i].push_back(truth(in.rays[i], in.x[s], in.y[s], in.z[s], in.r[s]));
+
+  const TightArrays tight(in, in.misalign, 0, 0.0f);
+  std::vector<const Kernel*> kernels;
+  for (Isa isa : supported_isas())
+    kernels.push_back(find_kernel(isa));
+
+  for (std::size_t m = 0; m <= n; ++m) {
+    const SphereView view = tight.suffix(m);
+    for (const Kernel* k : kernels)
+      check_kernel(*k, in.rays, view, truths, n - m);
+    for (std::size_t i = 0; i < in.rays.size(); ++i)
+      if (!same(intersect(view, in.rays[i]), active_kernel().intersect(view, in.rays[i])))
+        fail("the dispatched query differs from its kernel", i, m, "dispatch");
+  }
+
+  // A view that promises padding, the padding being exactly as long as promised, with
+  // never-hit spheres whose centres are anything at all.
+  if (in.padded) {
+    const std::size_t padding = (16 - n % 16) % 16;
+    const TightArrays padded(in, in.misalign, padding, in.x.empty() ? NAN : in.x.back());
+    for (const Kernel* k : kernels)
+      check_kernel(*k, in.rays, padded.suffix(n, padding), truths, 0);
+  }
+
+  // The BVH of each set, built over the whole view, then refitted to the spheres in reverse
+  // order (same count): both must answer exactly what brute force answers.
+  std::vector<float> rx(in.x.rbegin(), in.x.rend()), ry(in.y.rbegin(), in.y.rend()),
+      rz(in.z.rbegin(), in.z.rend()), rr(in.r.rbegin(), in.r.rend());
+  const SphereView reversed{rx.data(), ry.data(), rz.data(), rr.data(), n};
+  std::vector<std::vector<Truth>> reversed_truths(in.rays.size());
+  for (std::size_t i = 0; i < in.rays.size(); ++i)
+    reversed_truths[i].assign(truths[i].rbegin(), truths[i].rend());
+  for (const Kernel* k : kernels) {
+    SphereBVH bvh(tight.suffix(n), k->isa, BvhBuildOptions{1});
+    check_bvh(*k, in.rays, tight.suffix(n), truths, bvh);
+    bvh.refit(reversed);
+    check_bvh(*k, in.rays, reversed, reversed_truths, bvh);
+  }
+  return 0;
+}

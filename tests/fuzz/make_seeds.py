@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""Writes the kernel fuzzer's seed corpus (corpus/kernel/) in the byte format kernel_fuzzer.cpp
+decodes: a head byte (ray count, misalignment, padded view), a sphere count, the rays, the
+spheres, then the padding's radii. Run from tests/fuzz/; the output is committed."""
+import random
+import struct
+from pathlib import Path
+
+
+def num(x):
+    """An ordinary value (selector 9): 1/256 steps in [-128, 128)."""
+    v = max(-32768, min(32767, round(x * 256)))
+    return bytes([0x09]) + struct.pack(">h", v)
+
+
+def special(kind, sign=False):
+    sel = {"zero": 0, "nan": 1, "inf": 2, "denormal": 3, "huge": 4, "tiny": 5, "max": 8}[kind]
+    extra = {"denormal": b"\x00\x00\x12\x34", "huge": b"\x80\x3f", "tiny": b"\x40\x02"}
+    return bytes([sel | (0x80 if sign else 0)]) + extra.get(kind, b"")
+
+
+def ray(o, d, tmin=None, tmax=None):
+    out = b"".join(num(c) if isinstance(c, (int, float)) else c for c in (*o, *d))
+    bounds = (1 if tmin is not None else 0) | (2 if tmax is not None else 0)
+    out += bytes([bounds])
+    for t in (tmin, tmax):
+        if t is not None:
+            out += num(t) if isinstance(t, (int, float)) else t
+    return out
+
+
+def sphere(c, r):
+    out = b"".join(num(v) if isinstance(v, (int, float)) else v for v in c)
+    return out + (num(r) if isinstance(r, (int, float)) else r) + b"\x00"  # keep the sign
+
+
+def seed(rays, spheres, misalign=0, padded=False):
+    head = (len(rays) - 1) | (misalign << 2) | (0x40 if padded else 0)
+    return bytes([head, len(spheres)]) + b"".join(rays) + b"".join(spheres) + bytes(16)
+
+
+def main():
+    out = Path("corpus/kernel")
+    out.mkdir(parents=True, exist_ok=True)
+    book = sphere((0, 0, -1), 0.5)
+    seeds = {
+        "book-centre-ray": seed([ray((0, 0, 0), (0, 0, -1))], [book]),
+        "book-corner-rays": seed([ray((0, 0, 0), (-1.777, 1, -1)), ray((0, 0, 0), (1.777, -1, -1)),
+                                  ray((0, 0, 0), (0, 0, 1)), ray((0, 0, -1), (0, 1, 0))], [book]),
+        "inside-far-root": seed([ray((0, 0, -1), (0, 0, -2), 0.1, 3)], [book], misalign=3),
+        "tangent": seed([ray((0.5, 0, 0), (0, 0, -1)), ray((0, 0.5, 5), (0, 0, -0.25))],
+                        [book, sphere((0, 0, -1), 0.5)], padded=True),
+        "specials": seed([ray((special("nan"), 0, 0), (0, 0, -1)),
+                          ray((0, 0, 0), (special("zero"), special("zero"), special("zero"))),
+                          ray((0, 0, 0), (special("denormal"), 0, special("tiny"))),
+                          ray((0, 0, 0), (0, 0, -1), special("inf", True), special("inf"))],
+                         [book, sphere((special("inf"), 0, 0), 1), sphere((0, 0, -3), special("nan")),
+                          sphere((0, 0, -2), special("zero")), sphere((0, 0, -4), -1),
+                          sphere((special("huge"), 0, 0), special("huge")),
+                          sphere((0, special("tiny"), -5), special("tiny")),
+                          sphere((special("max"), 0, 0), special("max"))], misalign=7),
+    }
+    rng = random.Random(20261122)
+    for n in (7, 8, 9, 16, 17, 33, 40):
+        spheres = [sphere([rng.uniform(-10, 10) for _ in range(3)], rng.uniform(0.3, 3))
+                   for _ in range(n)]
+        rays = [ray([rng.uniform(-12, 12) for _ in range(3)], [rng.uniform(-2, 2) for _ in range(3)])
+                for _ in range(4)]
+        seeds[f"random-{n}"] = seed(rays, spheres, misalign=n % 16, padded=n % 2 == 1)
+    for name, data in seeds.items():
+        (out / name).write_bytes(data)
+
+
+if __name__ == "__main__":
+    main()
