@@ -14,6 +14,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "lane_reduce.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
 
@@ -108,20 +109,23 @@ struct SphereBatchKernel {
   // Batch index i's bits, kept in a float lane: select() moves bits, never does arithmetic.
   static Floats index_bits(std::uint32_t i) { return Floats(std::bit_cast<float>(i)); }
 
-  // The horizontal step, once per ray: the smallest t over the lanes, the lowest id on ties.
+  // The horizontal step, once per ray: the smallest t over the lanes, then the lowest id among
+  // the lanes that hold it (a lane's id is its batch index * width + lane). Branch-free: which
+  // lanes hit is random, and a data-dependent loop over them mispredicts on most rays.
   static Hit reduce(const Floats& best_t, const Floats& best_batch, float tmax) {
-    alignas(64) float t[kWidth];
-    alignas(64) float batch[kWidth];
-    best_t.store_aligned(t);
-    best_batch.store_aligned(batch);
-    Hit hit{tmax, kNoHit};
-    for (std::size_t lane = 0; lane < kWidth; ++lane) {
-      const std::uint32_t b = std::bit_cast<std::uint32_t>(batch[lane]);
-      if (b == kNoHit) continue;
-      const auto id = static_cast<std::uint32_t>(b * kWidth + lane);
-      if (t[lane] < hit.t || (t[lane] == hit.t && id < hit.id)) hit = {t[lane], id};
-    }
-    return hit;
+    using Reduce = LaneReduce<A>;
+    using Uints = xsimd::batch<std::uint32_t, A>;
+    const Floats min_t = Reduce::template all_min<float>(best_t);
+    const Uints ids =
+        (xsimd::bitwise_cast<Uints>(best_batch) * Uints(kWidth)) + Reduce::lane_index();
+    // Lanes that never hit hold t == tmax: they are left out unless no lane hit, and that case
+    // is answered below without their ids.
+    const Floats candidates =
+        xsimd::select(best_t == min_t, xsimd::bitwise_cast<Floats>(ids), index_bits(kNoHit));
+    const std::uint32_t id =
+        Reduce::template all_min<std::uint32_t>(xsimd::bitwise_cast<Uints>(candidates)).get(0);
+    const float t = min_t.get(0);
+    return t < tmax ? Hit{t, id} : Hit{tmax, kNoHit};
   }
 
   // Batches that can be read whole: all of them if the view promises padding.
