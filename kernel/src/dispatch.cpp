@@ -1,5 +1,6 @@
 // Run-time choice of the instruction set: the table of kernels this build has, filtered by what
 // the CPU and OS support, and SPHRAY_ISA.
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -69,15 +70,35 @@ const Supported& supported() {
   return s;
 }
 
-const Kernel& chosen_kernel() {
-  static const Kernel& kernel = [] {
+// The active kernel, and for views too small to fill its batches, a narrower one.
+struct Choice {
+  static constexpr std::size_t kSmall = 32;  // views below this many spheres may go narrower
+  const Kernel* active = nullptr;
+  std::array<const Kernel*, kSmall> by_count{};
+
+  Choice() {
     const IsaChoice choice = choose_isa(std::getenv("SPHRAY_ISA"));
     if (!choice.message.empty()) std::fprintf(stderr, "%s\n", choice.message.c_str());
-    return *find_kernel(choice.isa);
-  }();
-  return kernel;
-}
+    active = find_kernel(choice.isa);
+    for (std::size_t n = 0; n < kSmall; ++n)
+      by_count[n] = narrowest_fit(n);
+  }
 
+  // A batch costs its full width whatever it holds: measured, a kernel beats the narrower ones
+  // once the view fills about two thirds of one batch (docs/performance.md). The widest kernel
+  // no wider than the active one whose width is at most max(4, 1.5 n); scalar if none is.
+  const Kernel* narrowest_fit(std::size_t n) const {
+    const std::size_t widest = std::max<std::size_t>(4, 3 * n / 2);
+    for (const Kernel* k : supported().kernels)
+      if (k != nullptr && k->width <= active->width && k->width <= widest) return k;
+    return active;
+  }
+};
+
+const Choice& choice() {
+  static const Choice c;
+  return c;
+}
 }  // namespace
 
 std::string_view isa_name(Isa isa) {
@@ -137,10 +158,15 @@ IsaChoice choose_isa(const char* requested) {
 }
 
 Isa active_isa() {
-  return chosen_kernel().isa;
+  return choice().active->isa;
 }
 const Kernel& active_kernel() {
-  return chosen_kernel();
+  return *choice().active;
+}
+
+const Kernel& kernel_for_size(std::size_t sphere_count) {
+  const Choice& c = choice();
+  return sphere_count < Choice::kSmall ? *c.by_count[sphere_count] : *c.active;
 }
 
 }  // namespace sphray

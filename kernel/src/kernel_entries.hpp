@@ -16,10 +16,9 @@ template <class A>
 struct KernelEntries {
   using Batch = SphereBatchKernel<A>;
 
-  // Below this many spheres the plain scalar loop wins: a batch's per-ray setup and the final
-  // horizontal reduction cost more than the sphere tests they save (measured in
-  // docs/performance.md), so tiny scenes are never slower than the reference.
-  static constexpr std::size_t kScalarBelow = 8;
+  // A single sphere is tested faster by the plain scalar loop than by a batch that is mostly
+  // padding (measured in docs/performance.md); from two spheres on, a 4-lane batch wins.
+  static constexpr std::size_t kScalarBelow = 2;
 
   static Hit intersect(SphereView v, const Ray& ray) {
     return v.count < kScalarBelow ? scalar::intersect(v, ray) : Batch::intersect(v, ray);

@@ -9,17 +9,17 @@
 namespace sphray {
 
 Hit intersect(SphereView spheres, const Ray& ray) {
-  return active_kernel().intersect(spheres, ray);
+  return kernel_for_size(spheres.count).intersect(spheres, ray);
 }
 
 bool occluded(SphereView spheres, const Ray& ray) {
-  return active_kernel().occluded(spheres, ray);
+  return kernel_for_size(spheres.count).occluded(spheres, ray);
 }
 
 void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hits) {
   if (rays.size() != hits.size())
     throw std::length_error("sphray::intersect: rays and hits differ in size");
-  active_kernel().intersect_stream(spheres, rays.data(), hits.data(), rays.size());
+  kernel_for_size(spheres.count).intersect_stream(spheres, rays.data(), hits.data(), rays.size());
 }
 
 Surface surface(SphereView spheres, const Ray& ray, const Hit& hit) {

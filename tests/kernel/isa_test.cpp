@@ -70,3 +70,41 @@ TEST(Isa, ActiveIsaIsRunnable) {
 
 }  // namespace
 }  // namespace sphray
+
+namespace sphray {
+namespace {
+
+TEST(Isa, SmallViewsGoToAKernelTheyFill) {
+  const Kernel& active = active_kernel();
+  for (std::size_t n = 0; n < 64; ++n) {
+    const Kernel& k = kernel_for_size(n);
+    ASSERT_NE(find_kernel(k.isa), nullptr) << n;
+    EXPECT_LE(k.width, active.width) << n;
+    // Never a batch less than two thirds full when a narrower kernel exists that n fills.
+    if (k.width > 4) {
+      EXPECT_GE(3 * n, 2 * k.width) << n;
+    }
+    if (n >= 2 * active.width) {
+      EXPECT_EQ(k.isa, active.isa) << n;
+    }
+  }
+}
+
+TEST(Isa, DispatchedQueriesOnSmallViewsAgreeWithTheReference) {
+  std::mt19937 rng(3);
+  for (std::size_t n = 0; n < 40; ++n) {
+    test::LooseSpheres s(n % 3);
+    test::fill_random(s, n, rng);
+    for (const Ray& ray : test::random_rays(2000, rng)) {
+      const Hit got = intersect(s.view(), ray), want = scalar::intersect(s.view(), ray);
+      ASSERT_EQ(got.id, want.id) << n;
+      if (want.found()) {
+        ASSERT_NEAR(got.t, want.t, 1e-4f * std::max(1.0f, std::abs(want.t))) << n;
+      }
+      ASSERT_EQ(occluded(s.view(), ray), scalar::occluded(s.view(), ray)) << n;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sphray

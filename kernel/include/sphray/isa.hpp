@@ -63,5 +63,10 @@ IsaChoice choose_isa(const char* requested);
 /// The instruction set the queries in query.hpp use (SPHRAY_ISA read once, on first use).
 Isa active_isa();
 const Kernel& active_kernel();
+/// The kernel the brute-force queries in query.hpp use for a view of sphere_count spheres:
+/// active_kernel(), except that a view too small to fill two thirds of its batch goes to the
+/// widest narrower instruction set it does fill (a batch costs its full width whatever it
+/// holds). All of them return the same hits, within the kernel's tolerance.
+const Kernel& kernel_for_size(std::size_t sphere_count);
 
 }  // namespace sphray
