@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "ray_validity.hpp"
 #include "sphray/query.hpp"
 
 namespace sphray::detail {
@@ -32,19 +33,13 @@ bool enters(const float* node, std::size_t w, std::size_t k, const Ray& ray, flo
   return tnear <= tfar && tnear <= tmax;
 }
 
-// The rays query.hpp says miss everything. They must not reach the box test: a NaN origin makes
-// every slab NaN, which bounds nothing, so the ray would "enter" even the empty child slots and
-// follow their kBvhEmptySlot references far outside the node array.
-bool valid_ray(const Ray& ray) {
-  const float a = dot(ray.dir, ray.dir);
-  return isfinite(ray.origin) && isfinite(ray.dir) && ray.tmin < ray.tmax && a >= 0x1p-126f &&
-         std::isfinite(a);
-}
-
 // Visits every leaf whose box the ray enters; leaf(first sphere, sphere count) returns true to
 // stop.
 template <class Leaf>
 void visit(const BvhData& bvh, const Ray& ray, const float& tmax, Leaf&& leaf) {
+  // Invalid rays must not reach the box test: a NaN origin makes every slab NaN, which bounds
+  // nothing, so the ray would "enter" even the empty child slots and follow their references
+  // far outside the node array.
   if (bvh.node_count == 0 || !valid_ray(ray)) return;
   const std::size_t w = bvh.width;
   std::uint32_t stack[kBvhMaxDepth * (kScalarBvhWidth - 1) + 1];

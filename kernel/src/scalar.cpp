@@ -6,16 +6,21 @@
 
 #include "bvh_scalar.hpp"
 #include "kernel_table.hpp"
+#include "ray_validity.hpp"
 #include "sphray/query.hpp"
 
-namespace sphray::scalar {
-namespace {
-
+namespace sphray::detail {
 bool valid_ray(const Ray& ray) {
   const float a = dot(ray.dir, ray.dir);
   return isfinite(ray.origin) && isfinite(ray.dir) && ray.tmin < ray.tmax && a >= 0x1p-126f &&
          std::isfinite(a);
 }
+}  // namespace sphray::detail
+
+namespace sphray::scalar {
+namespace {
+
+using detail::valid_ray;
 
 bool valid_sphere(Vec3 center, float radius) {
   return isfinite(center) && std::isfinite(radius) && radius > 0.0f;
