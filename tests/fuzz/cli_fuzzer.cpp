@@ -12,6 +12,7 @@
 // - render() is wrapped (the linker's --wrap, see CMakeLists.txt): a valid size or sample
 //   count above 16x16 pixels and 2 samples is lowered to that before the real render() runs.
 //   Invalid values pass through untouched, so the refusals are the real ones.
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -139,11 +140,28 @@ void check_files(int status, const std::vector<std::string>& args) {
 
 }  // namespace
 
+std::string scratch;  // the folder every run works in
+
+// Runs body in the scratch folder, then returns to where libFuzzer works (its corpus, its
+// dictionary and the inputs it saves are relative to that).
+template <class Body>
+void in_scratch(Body&& body) {
+  const int home = ::open(".", O_RDONLY | O_DIRECTORY);
+  if (home < 0 || ::chdir(scratch.c_str()) != 0) std::abort();
+  body();
+  if (::fchdir(home) != 0) std::abort();
+  ::close(home);
+}
+
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   // A scratch folder of our own: every path the fuzzed arguments can name lies in it.
   char dir[] = "/tmp/sphray-cli-fuzz-XXXXXX";
-  if (::mkdtemp(dir) == nullptr || ::chdir(dir) != 0) std::abort();
-  reset_scratch();
+  if (::mkdtemp(dir) == nullptr) std::abort();
+  scratch = dir;
+  std::atexit([] {
+    std::error_code ignored;
+    fs::remove_all(scratch, ignored);
+  });
   return 0;
 }
 
@@ -154,20 +172,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     argv.push_back(a.data());
   argv.push_back(nullptr);
 
-  reset_scratch();
-  // The command installs handlers for SIGINT, SIGTERM and SIGHUP during a render; put back the
-  // fuzzer's own afterwards.
-  struct sigaction saved[3];
-  const int signals[3] = {SIGINT, SIGTERM, SIGHUP};
-  for (int i = 0; i < 3; ++i)
-    sigaction(signals[i], nullptr, &saved[i]);
-  const int status = sphray_cli_main(static_cast<int>(args.size()), argv.data());
-  for (int i = 0; i < 3; ++i)
-    sigaction(signals[i], &saved[i], nullptr);
-  std::fflush(stdout);
+  in_scratch([&] {
+    reset_scratch();
+    // The command installs handlers for SIGINT, SIGTERM and SIGHUP during a render; put back
+    // the fuzzer's own afterwards.
+    struct sigaction saved[3];
+    const int signals[3] = {SIGINT, SIGTERM, SIGHUP};
+    for (int i = 0; i < 3; ++i)
+      sigaction(signals[i], nullptr, &saved[i]);
+    const int status = sphray_cli_main(static_cast<int>(args.size()), argv.data());
+    for (int i = 0; i < 3; ++i)
+      sigaction(signals[i], &saved[i], nullptr);
+    std::fflush(stdout);
 
-  if (status != 0 && status != 1 && status != 2)
-    fail("exit status " + std::to_string(status), args);
-  check_files(status, args);
+    if (status != 0 && status != 1 && status != 2)
+      fail("exit status " + std::to_string(status), args);
+    check_files(status, args);
+  });
   return 0;
 }
