@@ -1,6 +1,7 @@
 // The public queries: each forwards to the kernel chosen at run time.
 #include "sphray/query.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -32,9 +33,14 @@ Surface surface(SphereView spheres, const Ray& ray, const Hit& hit) {
   // back on the sphere along it, so secondary rays start from the surface itself.
   // A hit at the very centre (radius below float's resolution) has no direction from it: face
   // the ray instead, so the normal is still unit length.
+  // The offset is divided by its largest component before it is normalised: the squares of a
+  // tiny one (a sphere of radius 1e-22) fall into float's denormals, whose few bits would make
+  // the normal's length wrong by percents.
   const Vec3 from_center = p - center;
-  const float len = length(from_center);
-  const Vec3 normal = len > 0.0f && std::isfinite(len) ? from_center / len : -normalize(ray.dir);
+  const float largest =
+      std::max({std::fabs(from_center.x), std::fabs(from_center.y), std::fabs(from_center.z)});
+  const bool has_direction = isfinite(from_center) && largest > 0.0f;
+  const Vec3 normal = has_direction ? normalize(from_center / largest) : -normalize(ray.dir);
   return {center + radius * normal, normal, dot(ray.dir, normal) < 0.0f};
 }
 

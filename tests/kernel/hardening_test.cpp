@@ -74,5 +74,19 @@ TEST(Hardening, BoxesBehindTheOriginAreNotSkipped) {
   }
 }
 
+// Kernel fuzzer: for a sphere of radius 1e-22 the offset from the centre to the hit point has
+// squares in float's denormals, and surface() normalised it to a length of 0.985.
+TEST(Hardening, SurfaceNormalOfATinySphereIsUnitLength) {
+  test::LooseSpheres spheres(0);
+  spheres.add({0x1.b848p-6f, 0x1.26a6ap-130f, 0x1.35p-73f}, 0x1.35p-73f);
+  const Ray ray{{0, 0, 0}, {0x1.368p+3f, 0, 0}};
+  for (Isa isa : supported_isas()) {
+    const Hit hit = find_kernel(isa)->intersect(spheres.view(), ray);
+    ASSERT_TRUE(hit.found()) << isa_name(isa);
+    const Surface s = surface(spheres.view(), ray, hit);
+    EXPECT_NEAR(length(s.normal), 1.0f, 1e-6f) << isa_name(isa);
+  }
+}
+
 }  // namespace
 }  // namespace sphray
