@@ -75,11 +75,14 @@ const json& object_at(const json& value, const std::string& pointer, const std::
     for (std::string_view k : allowed_keys)
       allowed = allowed || k == key;
     if (!allowed) {
+      // The key is quoted with JSON's escapes (dump() of a parsed key cannot throw: the parser
+      // checked its UTF-8), so a "\n" in it cannot break the one-line message.
       std::string list;
       for (std::string_view k : allowed_keys)
         list += (list.empty() ? "" : ", ") + std::string(k);
       fail(pointer + "/" + key,
-           "one of the keys " + list + " in " + what + ", got unknown key \"" + key + "\"", true);
+           "one of the keys " + list + " in " + what + ", got unknown key " + json(key).dump(),
+           true);
     }
   }
   return value;

@@ -31,5 +31,18 @@ TEST(Hardening, NumbersBeyondDoubleAreRefusedWithTheirPosition) {
   }
 }
 
+// Scene fuzzer: an unknown key with an escaped line break ("a\nb") was echoed raw, making the
+// message two lines. Keys are quoted with JSON's escapes.
+TEST(Hardening, UnknownKeysAreQuotedOnOneLine) {
+  try {
+    parse_scene(R"({"a\nb": true, "spheres": []})", "x.json");
+    ADD_FAILURE() << "accepted an unknown key";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "x.json:1:2: expected one of the keys name, camera, spheres, width, height in the "
+              "scene, got unknown key \"a\\nb\"");
+  }
+}
+
 }  // namespace
 }  // namespace sphray::render
