@@ -315,8 +315,14 @@ void check_surface(const Case& c, const Hit& hit, const char* impl) {
   const Surface s = surface(c.view, c.ray, hit);
   const LD len = std::sqrt(LD{s.normal.x} * s.normal.x + LD{s.normal.y} * s.normal.y +
                            LD{s.normal.z} * s.normal.z);
-  if (!(std::fabs(len - 1) <= 1e-5L))
+  if (!(std::fabs(len - 1) <= 1e-5L)) {
+    const std::uint32_t k = hit.id;
+    std::fprintf(stderr, "ray %a %a %a dir %a %a %a; sphere %a %a %a r %a; t %a; normal %a %a %a\n",
+                 c.ray.origin.x, c.ray.origin.y, c.ray.origin.z, c.ray.dir.x, c.ray.dir.y,
+                 c.ray.dir.z, c.view.cx[k], c.view.cy[k], c.view.cz[k], c.view.radius[k], hit.t,
+                 s.normal.x, s.normal.y, s.normal.z);
     fail("surface() normal is not unit length", c.index, c.view.count, impl);
+  }
 }
 
 bool same(const Hit& a, const Hit& b) {
