@@ -151,7 +151,8 @@ std::string label(const Kernel& k, Kind kind, std::size_t n) {
 // scenes, but never fewer than 2000.
 std::size_t ray_count(const Kernel& k, std::size_t n) {
   const double budget = k.isa == Isa::scalar ? 2e7 : 1e8;
-  return std::clamp<std::size_t>(static_cast<std::size_t>(budget / double(n + 1)), 2000, 20000);
+  return test::scaled(
+      std::clamp<std::size_t>(static_cast<std::size_t>(budget / double(n + 1)), 2000, 20000));
 }
 
 class BvhAgreement : public ::testing::TestWithParam<Isa> {};
@@ -175,7 +176,7 @@ TEST_P(BvhAgreement, MatchesBruteForceOnEveryKindAndSize) {
     }
   }
   std::cout << "[ compared ] " << tally.rays << " rays on " << isa_name(k->isa) << "\n";
-  EXPECT_GE(tally.rays, 1000000u);
+  EXPECT_GE(tally.rays, test::scaled(1000000) * 99 / 100);
 }
 
 std::string isa_param_name(const ::testing::TestParamInfo<Isa>& info) {

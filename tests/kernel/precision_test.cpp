@@ -76,10 +76,10 @@ Case random_case(std::mt19937& rng) {
 }
 
 TEST(Precision, HitMissAndDistanceAgainstLongDouble) {
-  constexpr int kCases = 200000;
+  const int case_count = static_cast<int>(test::scaled(200000));
   std::mt19937 rng(1234);
   std::vector<Case> cases;
-  for (int i = 0; i < kCases; ++i)
+  for (int i = 0; i < case_count; ++i)
     cases.push_back(random_case(rng));
 
   for (const Kernel* k : test::runnable_kernels()) {
@@ -105,8 +105,8 @@ TEST(Precision, HitMissAndDistanceAgainstLongDouble) {
       ++checked_hits;
     }
     // The generator must really produce both outcomes, or the test proves little.
-    EXPECT_GT(checked_hits, kCases / 5) << test::name_of(k);
-    EXPECT_GT(decided - checked_hits, kCases / 10) << test::name_of(k);
+    EXPECT_GT(checked_hits, case_count / 5) << test::name_of(k);
+    EXPECT_GT(decided - checked_hits, case_count / 10) << test::name_of(k);
   }
 }
 

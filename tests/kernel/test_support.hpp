@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <ostream>
 #include <random>
 #include <string>
@@ -15,7 +17,9 @@
 
 namespace sphray {
 // Names instruction sets in gtest's output ("GetParam() = avx2").
-inline void PrintTo(Isa isa, std::ostream* os) { *os << isa_name(isa); }
+inline void PrintTo(Isa isa, std::ostream* os) {
+  *os << isa_name(isa);
+}
 }  // namespace sphray
 
 namespace sphray::test {
@@ -43,6 +47,23 @@ struct LooseSpheres {
             storage[3].data() + offset, count};
   }
 };
+
+// Sanitizer builds run ten to fifty times slower: their test presets set SPHRAY_TEST_RAY_SCALE
+// (0 < scale <= 1) to trace that fraction of the random rays. Every case still runs; the
+// release run traces the full counts.
+inline double ray_scale() {
+  static const double scale = [] {
+    const char* text = std::getenv("SPHRAY_TEST_RAY_SCALE");
+    const double s = text != nullptr ? std::atof(text) : 1.0;
+    return s > 0.0 && s <= 1.0 ? s : 1.0;
+  }();
+  return scale;
+}
+
+inline std::size_t scaled(std::size_t rays) {
+  return std::max<std::size_t>(1,
+                               static_cast<std::size_t>(static_cast<double>(rays) * ray_scale()));
+}
 
 inline float uniform(std::mt19937& rng, float lo, float hi) {
   return std::uniform_real_distribution<float>(lo, hi)(rng);
