@@ -235,7 +235,10 @@ bool same_tree(const SphereBVH& a, const SphereBVH& b) {
 TEST(Bvh, BuildIsTheSameWhateverTheThreadCount) {
   std::mt19937 rng(9);
   for (Kind kind : {Kind::uniform, Kind::clustered, Kind::identical}) {
-    const test::LooseSpheres scene = make_scene(kind, 100000, rng);
+    // Large enough that the builder splits its work across threads (from 16384 spheres on),
+    // also in the sanitizer runs, which scale the workload down.
+    const std::size_t n = std::max<std::size_t>(test::scaled(100000), 20000);
+    const test::LooseSpheres scene = make_scene(kind, n, rng);
     const SphereBVH one(scene.view(), BvhBuildOptions{1});
     for (unsigned threads : {2u, 3u, 0u}) {
       const SphereBVH many(scene.view(), BvhBuildOptions{threads});

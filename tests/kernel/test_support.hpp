@@ -48,12 +48,12 @@ struct LooseSpheres {
   }
 };
 
-// Sanitizer builds run ten to fifty times slower: their test presets set SPHRAY_TEST_RAY_SCALE
+// Sanitizer builds run ten to fifty times slower: their test presets set SPHRAY_TEST_SCALE
 // (0 < scale <= 1) to trace that fraction of the random rays. Every case still runs; the
 // release run traces the full counts.
 inline double ray_scale() {
   static const double scale = [] {
-    const char* text = std::getenv("SPHRAY_TEST_RAY_SCALE");
+    const char* text = std::getenv("SPHRAY_TEST_SCALE");
     const double s = text != nullptr ? std::atof(text) : 1.0;
     return s > 0.0 && s <= 1.0 ? s : 1.0;
   }();
