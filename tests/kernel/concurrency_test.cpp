@@ -36,5 +36,31 @@ TEST(Concurrency, ConstQueriesFromManyThreadsAgree) {
     }
 }
 
+TEST(Concurrency, ConstBvhQueriesFromManyThreadsAgree) {
+  std::mt19937 rng(6);
+  SphereSoA spheres;
+  test::fill_random(spheres, 3000, rng);
+  const SphereBVH bvh(spheres.view());
+  const auto rays = test::random_rays(4000, rng);
+  std::vector<Hit> expected(rays.size());
+  intersect(bvh, rays, expected);
+
+  constexpr int kThreads = 8;
+  std::vector<std::vector<Hit>> got(kThreads, std::vector<Hit>(rays.size()));
+  {
+    std::vector<std::jthread> threads;
+    for (int t = 0; t < kThreads; ++t)
+      threads.emplace_back([&, t] {
+        for (std::size_t i = 0; i < rays.size(); ++i)
+          got[t][i] = intersect(bvh, rays[i]);
+      });
+  }
+  for (int t = 0; t < kThreads; ++t)
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      ASSERT_EQ(got[t][i].id, expected[i].id);
+      ASSERT_EQ(got[t][i].t, expected[i].t);
+    }
+}
+
 }  // namespace
 }  // namespace sphray
