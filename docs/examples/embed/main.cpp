@@ -10,9 +10,9 @@ int main() {
   spheres.add({0.0f, -100.5f, -1.0f}, 100.0f);  // id 1: the ground
 
   const std::vector<sphray::Ray> rays = {
-      {{0, 0, 0}, {0, 0, -1}},     // straight at sphere 0: t = 0.5
-      {{0, 0, 0}, {0, -1, -0.1f}}, // down to the ground
-      {{0, 0, 0}, {0, 1, 0}},      // up into the sky: a miss
+      {{0, 0, 0}, {0, 0, -1}},      // straight at sphere 0: t = 0.5
+      {{0, 0, 0}, {0, -1, -0.1f}},  // down to the ground
+      {{0, 0, 0}, {0, 1, 0}},       // up into the sky: a miss
   };
   std::vector<sphray::Hit> hits(rays.size());
   sphray::intersect(spheres.view(), rays, hits);  // a stream of closest hits
