@@ -8,6 +8,7 @@
 
 #include "cpu.hpp"
 #include "kernel_table.hpp"
+#include "size_policy.hpp"
 #include "sphray/isa.hpp"
 
 namespace sphray {
@@ -85,10 +86,11 @@ struct Choice {
   }
 
   // A batch costs its full width whatever it holds: measured, a kernel beats the narrower ones
-  // once the view fills about two thirds of one batch (docs/performance.md). The widest kernel
-  // no wider than the active one whose width is at most max(4, 1.5 n); scalar if none is.
+  // once the view fills about two thirds of one batch, and a single sphere is fastest in the
+  // scalar loop (docs/performance.md). The widest kernel no wider than the active one whose
+  // width is at most max(4, 1.5 n), or the scalar one below kScalarBelow spheres.
   const Kernel* narrowest_fit(std::size_t n) const {
-    const std::size_t widest = std::max<std::size_t>(4, 3 * n / 2);
+    const std::size_t widest = n < detail::kScalarBelow ? 1 : std::max<std::size_t>(4, 3 * n / 2);
     for (const Kernel* k : supported().kernels)
       if (k != nullptr && k->width <= active->width && k->width <= widest) return k;
     return active;

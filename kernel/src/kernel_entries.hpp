@@ -7,6 +7,7 @@
 #include "bvh_scalar.hpp"
 #include "bvh_traverse.hpp"
 #include "kernel_table.hpp"
+#include "size_policy.hpp"
 #include "sphere_batch.hpp"
 #include "sphray/query.hpp"
 
@@ -15,10 +16,6 @@ namespace sphray::detail {
 template <class A>
 struct KernelEntries {
   using Batch = SphereBatchKernel<A>;
-
-  // A single sphere is tested faster by the plain scalar loop than by a batch that is mostly
-  // padding (measured in docs/performance.md); from two spheres on, a 4-lane batch wins.
-  static constexpr std::size_t kScalarBelow = 2;
 
   static Hit intersect(SphereView v, const Ray& ray) {
     return v.count < kScalarBelow ? scalar::intersect(v, ray) : Batch::intersect(v, ray);

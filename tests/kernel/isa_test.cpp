@@ -87,6 +87,9 @@ TEST(Isa, SmallViewsGoToAKernelTheyFill) {
     if (n >= 2 * active.width) {
       EXPECT_EQ(k.isa, active.isa) << n;
     }
+    if (n < 2) {
+      EXPECT_EQ(k.isa, Isa::scalar) << n;
+    }
   }
 }
 

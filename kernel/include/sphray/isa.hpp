@@ -66,7 +66,8 @@ const Kernel& active_kernel();
 /// The kernel the brute-force queries in query.hpp use for a view of sphere_count spheres:
 /// active_kernel(), except that a view too small to fill two thirds of its batch goes to the
 /// widest narrower instruction set it does fill (a batch costs its full width whatever it
-/// holds). All of them return the same hits, within the kernel's tolerance.
+/// holds), and a view of fewer than two spheres to the scalar kernel. All of them return the same
+/// hits, within the kernel's tolerance.
 const Kernel& kernel_for_size(std::size_t sphere_count);
 
 }  // namespace sphray
