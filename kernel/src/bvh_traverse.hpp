@@ -13,10 +13,7 @@
 
 #include <xsimd/xsimd.hpp>
 
-#if defined(__x86_64__) || defined(__i386__)
-#include <immintrin.h>  // the movemask of each width, whatever this unit's flags
-#endif
-
+#include "lane_reduce.hpp"
 #include "sphere_batch.hpp"
 #include "sphray/bvh.hpp"
 
@@ -113,25 +110,6 @@ struct BvhTraversal {
     return (tnear <= tfar_widened) & (tnear <= best_t);
   }
 
-  // One bit per lane, lane 0 in bit 0.
-  static unsigned lane_bits(const Mask& m) {
-#if defined(__x86_64__) || defined(__i386__)
-    if constexpr (std::is_base_of_v<xsimd::avx512f, A>)
-      return static_cast<unsigned>(static_cast<__mmask16>(m));
-    else if constexpr (std::is_base_of_v<xsimd::avx, A>)
-      return static_cast<unsigned>(_mm256_movemask_ps(m));
-    else
-      return static_cast<unsigned>(_mm_movemask_ps(m));
-#else
-    alignas(64) float lanes[kWidth];
-    xsimd::select(m, Floats(1.0f), Floats(0.0f)).store_aligned(lanes);
-    unsigned bits = 0;
-    for (std::size_t i = 0; i < kWidth; ++i)
-      if (lanes[i] != 0.0f) bits |= 1u << i;
-    return bits;
-#endif
-  }
-
   static std::uint32_t child_ref(const float* node, unsigned lane) {
     return std::bit_cast<std::uint32_t>(node[6 * kWidth + lane]);
   }
@@ -165,7 +143,7 @@ struct BvhTraversal {
       if ((ref & kBvhLeafBit) == 0) {
         const float* node = bvh.nodes + std::size_t{ref} * kNodeFloats;
         Floats tnear;
-        const unsigned bits = lane_bits(enter_children(s, node, Floats(best_t), tnear));
+        const unsigned bits = LaneReduce<A>::bits(enter_children(s, node, Floats(best_t), tnear));
         push_children(node, bits, tnear, stack, top);
       } else {
         const std::size_t first = (ref & kBvhLeafFirstMask) * kWidth;
@@ -200,7 +178,7 @@ struct BvhTraversal {
     Floats t;
     Mask live;
     if (!Batch::roots(s, Batch::load(bvh.spheres, i), t, live)) return;
-    unsigned bits = lane_bits(live & (t > s.tmin) & (t <= Floats(best.t)));
+    unsigned bits = LaneReduce<A>::bits(live & (t > s.tmin) & (t <= Floats(best.t)));
     if (bits == 0) return;
     alignas(64) float lanes[kWidth];
     t.store_aligned(lanes);
@@ -228,11 +206,6 @@ struct BvhTraversal {
       return hit;
     });
     return hit;
-  }
-
-  static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
-    for (std::size_t i = 0; i < n; ++i)
-      hits[i] = intersect(bvh, rays[i]);
   }
 };
 

@@ -4,8 +4,13 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include <xsimd/xsimd.hpp>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>  // the mask move of each width, whatever this unit's flags
+#endif
 
 namespace sphray::detail {
 
@@ -32,6 +37,26 @@ struct LaneReduce {
       constexpr auto swap = xsimd::make_batch_constant<Batch<std::uint32_t>, XorLane<kStride>>();
       return all_min<T, kStride / 2>(xsimd::min(x, xsimd::swizzle(x, swap)));
     }
+  }
+
+  // One bit per lane of a mask, lane 0 in bit 0: the instruction set's own mask move where it
+  // has one (xsimd 8.1 has no batch_bool::mask()), else through memory.
+  static unsigned bits(const xsimd::batch_bool<float, A>& m) {
+#if defined(__x86_64__) || defined(__i386__)
+    if constexpr (std::is_base_of_v<xsimd::avx512f, A>)
+      return static_cast<unsigned>(static_cast<__mmask16>(m));
+    else if constexpr (std::is_base_of_v<xsimd::avx, A>)
+      return static_cast<unsigned>(_mm256_movemask_ps(m));
+    else
+      return static_cast<unsigned>(_mm_movemask_ps(m));
+#else
+    alignas(64) float lanes[kWidth];
+    xsimd::select(m, Batch<float>(1.0f), Batch<float>(0.0f)).store_aligned(lanes);
+    unsigned result = 0;
+    for (std::size_t i = 0; i < kWidth; ++i)
+      if (lanes[i] != 0.0f) result |= 1u << i;
+    return result;
+#endif
   }
 
   struct Iota {
