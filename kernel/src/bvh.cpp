@@ -28,8 +28,8 @@ SphereBVH::SphereBVH(SphereView spheres, BvhBuildOptions options)
 
 SphereBVH::SphereBVH(SphereView spheres, Isa isa, BvhBuildOptions options)
     : kernel_(&kernel_for(isa)) {
-  storage_ = std::make_unique<Storage>(
-      Storage{detail::build_bvh(spheres, kernel_->bvh_width, options.threads)});
+  storage_ =
+      std::make_unique<Storage>(Storage{detail::build_bvh(spheres, kernel_->bvh_width, options)});
   data_ = storage_->arrays.data();
 }
 

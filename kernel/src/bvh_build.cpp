@@ -2,7 +2,8 @@
 // Hierarchies", IEEE RT 2007) that prices a leaf by its batches, not its spheres, and grows each
 // wide node by splitting its largest child until it has W (Wald, Benthin, Boulos, "Getting
 // Rid of Packets", IEEE RT 2008). Deterministic: every step is a function of its input range
-// only, and the parallel reductions combine counts and min/max, which are exact in any order.
+// only, the parallel reductions combine counts and min/max, which are exact in any order, and
+// the parallel partition is stable over fixed blocks.
 #include "bvh_build.hpp"
 
 #include <algorithm>
@@ -10,6 +11,11 @@
 #include <bit>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <xsimd/xsimd.hpp>
 
 #if SPHRAY_HAS_TBB
 #include <tbb/blocked_range.h>
@@ -24,35 +30,36 @@ namespace sphray::detail {
 namespace {
 
 constexpr float kInf = INFINITY;
-// Bins per axis: 32 on large ranges, 8 below kFewBinsBelow spheres, where the bins' setup and
+// Bins per axis: 32 on large ranges, 16 below kFewBinsBelow spheres, where the bins' setup and
 // sweep would cost more than the binning pass itself.
 constexpr std::size_t kBins = 32;
 constexpr std::size_t kFewBins = 16;
 constexpr std::size_t kFewBinsBelow = 64;
-// Below this many spheres a range is handled by one thread: the task costs more than it saves.
-constexpr std::size_t kParallelMin = 16384;
 // Past this depth every split is a median split, which at least halves a range: with ids
 // below 2^32 the tree then stays within kBvhMaxDepth levels.
 constexpr std::size_t kSahDepth = kBvhMaxDepth / 2;
+// Spheres per block of the parallel partition, at most. Fixed for given options, so that the
+// blocks, and with them the order the partition leaves, do not depend on the thread count.
+constexpr std::size_t kBlock = 4096;
 
-using Point = std::array<float, 3>;
+// Four floats, x, y, z and a spare lane, in one SIMD register: xsimd's baseline architecture
+// (SSE2 on x86-64, NEON on AArch64) is 4 wide. The builder needs nothing wider: it is bound by
+// memory, not arithmetic.
+using Lanes = xsimd::batch<float, xsimd::default_arch>;
+using LaneInts = xsimd::batch<std::int32_t, xsimd::default_arch>;
+static_assert(Lanes::size == 4, "the builder's boxes are four lanes");
 
-struct Box {
-  Point lo{kInf, kInf, kInf};
-  Point hi{-kInf, -kInf, -kInf};
+// A box with a spare lane per corner, so that growing it is one min and one max.
+struct alignas(16) Box {
+  float lo[4] = {kInf, kInf, kInf, kInf};
+  float hi[4] = {-kInf, -kInf, -kInf, -kInf};
 
-  void grow(const Box& b) {
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], b.lo[k]);
-      hi[k] = std::max(hi[k], b.hi[k]);
-    }
+  void grow(const Lanes& l, const Lanes& h) {
+    xsimd::min(Lanes::load_aligned(lo), l).store_aligned(lo);
+    xsimd::max(Lanes::load_aligned(hi), h).store_aligned(hi);
   }
-  void grow(const Point& p) {
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], p[k]);
-      hi[k] = std::max(hi[k], p[k]);
-    }
-  }
+  void grow(const Box& b) { grow(Lanes::load_aligned(b.lo), Lanes::load_aligned(b.hi)); }
+  void grow(const Lanes& point) { grow(point, point); }
   bool empty() const { return !(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2]); }
   // Half the surface area; the SAH only compares ratios. Infinite for unbounded boxes.
   float half_area() const {
@@ -67,54 +74,99 @@ bool valid_sphere(float x, float y, float z, float r) {
   return std::isfinite(x) && std::isfinite(y) && std::isfinite(z) && std::isfinite(r) && r > 0.0f;
 }
 
-// The sphere's box, widened by 2^-20 of its coordinates' magnitude: more than the rounding of
-// c -+ r, and enough to hold a grazing hit that the kernel's own rounding puts just outside the
-// exact sphere. An invalid sphere is never hit: its box is empty, so it never widens a parent.
+// Half the side of a sphere's box on one axis: the radius, widened by 2^-20 of the
+// coordinate's magnitude. That is more than the rounding of c -+ e, and enough to hold a grazing
+// hit that the kernel's own rounding puts just outside the exact sphere.
+float half_extent(float c, float r) {
+  return r + (std::fabs(c) + r) * 0x1p-20f;
+}
+
+// One sphere as the builder sees it, 32 bytes: the centre and radius, the box's half extents
+// and the id. The build partitions an array of these, so every pass over a range reads memory
+// in order, and the leaves' spheres are copied out of it in order at the end. An invalid
+// sphere (never hit) has centre 0, radius 0 and half extents -inf: its box c -+ e is empty, so
+// it never widens a parent, and its centre still compares with the others.
+struct alignas(16) Prim {
+  float sphere[4];  // centre x, y, z; radius
+  float extent[4];  // half extents x, y, z; the id's bits
+
+  static Prim make(float x, float y, float z, float r, std::uint32_t id) {
+    Prim p{{0.0f, 0.0f, 0.0f, 0.0f}, {-kInf, -kInf, -kInf, 0.0f}};
+    if (valid_sphere(x, y, z, r))
+      p = {{x, y, z, r}, {half_extent(x, r), half_extent(y, r), half_extent(z, r), 0.0f}};
+    p.extent[3] = std::bit_cast<float>(id);
+    return p;
+  }
+  std::uint32_t id() const { return std::bit_cast<std::uint32_t>(extent[3]); }
+  // The centre in lanes 0-2 (lane 3: the radius, which binning multiplies by 0).
+  Lanes centre() const { return Lanes::load_aligned(sphere); }
+  // Grows box by the sphere's box. The id's lane is zeroed first: as a float it is mostly
+  // subnormal, which some processors handle in slow microcode.
+  void grow(Box& box) const {
+    const xsimd::batch_bool<float, xsimd::default_arch> xyz{true, true, true, false};
+    const Lanes c = centre();
+    const Lanes e = xsimd::select(xyz, Lanes::load_aligned(extent), Lanes(0.0f));
+    box.grow(c - e, c + e);
+  }
+};
+static_assert(std::is_trivially_default_constructible_v<Prim> && sizeof(Prim) == 32);
+
+// A default-initialised array of prims: the builder writes every element before reading it.
+struct Prims {
+  explicit Prims(std::size_t n) : data(new Prim[n]), size(n) {}
+  Prim& operator[](std::size_t i) { return data[i]; }
+  const Prim& operator[](std::size_t i) const { return data[i]; }
+  std::unique_ptr<Prim[]> data;
+  std::size_t size;
+};
+
+// The box refit gives a sphere: the same arithmetic as the build's.
 Box sphere_box(float x, float y, float z, float r) {
   Box b;
-  if (!valid_sphere(x, y, z, r)) return b;
-  const std::array<float, 3> c{x, y, z};
-  for (int k = 0; k < 3; ++k) {
-    const float pad = (std::fabs(c[k]) + r) * 0x1p-20f;
-    b.lo[k] = (c[k] - r) - pad;
-    b.hi[k] = (c[k] + r) + pad;
-  }
+  Prim::make(x, y, z, r, 0).grow(b);
   return b;
 }
 
-// One sphere as the builder sees it. The build partitions an array of these in place, so every
-// pass over a range reads memory in order (an array of ids into per-sphere arrays would make
-// each pass a random gather, several times slower at a million spheres).
-struct Prim {
-  Box box;
-  Point centroid;  // the centre; 0 for an invalid sphere
-  std::uint32_t id;
-};
-using Prims = std::vector<Prim>;
+// How a range's centres map to bins: (centre - origin) * scale, per axis, clamped to
+// [0, last]. An axis with scale 0 is not binned (all its centres are equal).
+struct Binning {
+  Lanes origin, scale, last;
 
+  // The bin of centre c on every axis; NaN (0 * inf) goes to bin 0. The builder computes every
+  // bin index here, so binning and partition agree bit for bit.
+  LaneInts bins(const Lanes& c) const {
+    const Lanes zero(0.0f);
+    const Lanes b = (c - origin) * scale;
+    return xsimd::to_int(xsimd::min(xsimd::select(b > zero, b, zero), last));
+  }
+};
+
+// Runs body(i) for i in [0, n), in parallel in chunks of grain.
 template <class Body>
-void parallel_for(std::size_t n, Body&& body) {
+void parallel_for(std::size_t n, std::size_t grain, Body&& body) {
 #if SPHRAY_HAS_TBB
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i)
                         body(i);
                     });
 #else
+  (void)grain;
   for (std::size_t i = 0; i < n; ++i)
     body(i);
 #endif
 }
 
-// Combines fold(i) for i in [begin, end) with join; in parallel for large ranges. join must be
-// associative and commutative and exact (counts, min, max): the result is then the same
-// whatever the split.
+// Combines fold(i) for i in [begin, end) with join; in parallel from parallel_min on. join
+// must be associative and commutative and exact (counts, min, max): the result is then the
+// same whatever the split.
 template <class T, class Fold, class Join>
-T reduce_range(std::size_t begin, std::size_t end, const T& identity, Fold&& fold, Join&& join) {
+T reduce_range(std::size_t begin, std::size_t end, std::size_t parallel_min, const T& identity,
+               Fold&& fold, Join&& join) {
 #if SPHRAY_HAS_TBB
-  if (end - begin >= kParallelMin) {
+  if (end - begin >= parallel_min) {
     return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(begin, end, 4096), identity,
+        tbb::blocked_range<std::size_t>(begin, end, kBlock), identity,
         [&](const tbb::blocked_range<std::size_t>& r, T acc) {
           for (std::size_t i = r.begin(); i < r.end(); ++i)
             fold(acc, i);
@@ -127,6 +179,7 @@ T reduce_range(std::size_t begin, std::size_t end, const T& identity, Fold&& fol
   }
 #else
   (void)join;  // one thread: nothing to join
+  (void)parallel_min;
 #endif
   T acc = identity;
   for (std::size_t i = begin; i < end; ++i)
@@ -145,27 +198,32 @@ struct Cluster {
 
 struct Bin {
   Box box;
-  Box centroid;
   std::size_t count = 0;
 
   void grow(const Bin& b) {
     box.grow(b.box);
-    centroid.grow(b.centroid);
     count += b.count;
   }
 };
+
 struct Split {
   int axis = -1;
-  std::size_t bin = 0;  // spheres in bins <= bin go left
-  std::size_t bins = 0;
-  float scale = 0.0f;
-  float origin = 0.0f;
+  std::int32_t bin = 0;  // spheres in bins <= bin go left
+  Binning binning;
   Bin left, right;  // what each side will hold
 };
 
 class Builder {
  public:
-  Builder(Prims& prims, std::size_t width) : p_(prims), width_(width) {}
+  Builder(Prims& prims, std::size_t width, std::size_t parallel_min)
+      : p_(prims),
+        scratch_(prims.size),
+        width_(width),
+        parallel_min_(std::max<std::size_t>(parallel_min, 1024)),
+        block_(std::clamp<std::size_t>(parallel_min_ / 4, 256, kBlock)) {
+    // Parallel partitions note each prim's side here.
+    if (p_.size >= parallel_min_) left_side_.resize(p_.size);
+  }
 
   struct Node {
     struct Child {
@@ -173,6 +231,7 @@ class Builder {
       std::unique_ptr<Node> node;  // null for a leaf
     };
     std::vector<Child> children;
+    std::size_t subtree_nodes = 1;  // this node and every node below it
   };
 
   Cluster cluster(std::size_t begin, std::size_t end) const {
@@ -180,10 +239,10 @@ class Builder {
       Box box, centroid;
     };
     const Acc acc = reduce_range(
-        begin, end, Acc{},
+        begin, end, parallel_min_, Acc{},
         [&](Acc& a, std::size_t i) {
-          a.box.grow(p_[i].box);
-          a.centroid.grow(p_[i].centroid);
+          p_[i].grow(a.box);
+          a.centroid.grow(p_[i].centre());
         },
         [](Acc& a, const Acc& b) {
           a.box.grow(b.box);
@@ -207,6 +266,8 @@ class Builder {
     for (std::size_t k = 0; k < parts.size(); ++k)
       node->children[k].cluster = parts[k];
     build_children(*node, depth + 1);
+    for (const auto& child : node->children)
+      if (child.node) node->subtree_nodes += child.node->subtree_nodes;
     return node;
   }
 
@@ -216,7 +277,7 @@ class Builder {
     tbb::task_group group;
     for (auto& child : node.children) {
       if (child.cluster.size() <= width_) continue;
-      if (child.cluster.size() >= kParallelMin)
+      if (child.cluster.size() >= parallel_min_)
         group.run([this, &child, depth] { child.node = build(child.cluster, depth); });
       else
         child.node = build(child.cluster, depth);
@@ -244,29 +305,99 @@ class Builder {
       const Split s =
           c.size() < kFewBinsBelow ? best_sah_split<kFewBins>(c) : best_sah_split<kBins>(c);
       if (s.axis >= 0) {
-        Prim* first = p_.data() + c.begin;
-        const Prim* mid = std::partition(first, p_.data() + c.end, [&](const Prim& p) {
-          return (s.bins == kBins
-                      ? bin_of<kBins>(p.centroid[s.axis], s.origin, s.scale)
-                      : bin_of<kFewBins>(p.centroid[s.axis], s.origin, s.scale)) <= s.bin;
-        });
-        // The bins already hold both sides' bounds: no pass over the spheres to find them.
-        const std::size_t m = c.begin + s.left.count;
-        if (mid == p_.data() + m)
-          return {{c.begin, m, s.left.box, s.left.centroid},
-                  {m, c.end, s.right.box, s.right.centroid}};
+        const auto goes_left = [&s](const Lanes& centre) {
+          alignas(16) std::int32_t bins[4];
+          s.binning.bins(centre).store_aligned(bins);
+          return bins[s.axis] <= s.bin;
+        };
+        Box left_centroids, right_centroids;
+        const std::size_t mid =
+            c.size() >= parallel_min_
+                ? partition_parallel(c, goes_left, left_centroids, right_centroids)
+                : partition_serial(c, goes_left, left_centroids, right_centroids);
+        // The bins already hold both sides' boxes: no pass over the spheres to find them.
+        if (mid == c.begin + s.left.count)
+          return {{c.begin, mid, s.left.box, left_centroids},
+                  {mid, c.end, s.right.box, right_centroids}};
       }
     }
     const std::size_t mid = median_split(c);
     return {cluster(c.begin, mid), cluster(mid, c.end)};
   }
 
-  template <std::size_t Count>
-  static std::size_t bin_of(float x, float origin, float scale) {
-    const float b = (x - origin) * scale;
-    // !(b > 0) also catches NaN.
-    if (!(b > 0.0f)) return 0;
-    return std::min(static_cast<std::size_t>(b), Count - 1);
+  // One pass that copies each prim to the scratch array, lefts from the front and rights from
+  // the back, growing each side's centre bounds, then a copy back. Branch-free: which side a
+  // sphere goes is a coin toss, and a branch on it would mispredict half the time.
+  template <class Left>
+  std::size_t partition_serial(const Cluster& c, const Left& goes_left, Box& left_centroids,
+                               Box& right_centroids) {
+    Lanes left_lo(kInf), left_hi(-kInf), right_lo(kInf), right_hi(-kInf);
+    std::size_t l = c.begin, r = c.end;
+    for (std::size_t i = c.begin; i < c.end; ++i) {
+      const Lanes centre = p_[i].centre();
+      const bool left = goes_left(centre);
+      scratch_[left ? l : r - 1] = p_[i];
+      l += left;
+      r -= !left;
+      const xsimd::batch_bool<float, xsimd::default_arch> to_left(left);
+      left_lo = xsimd::select(to_left, xsimd::min(left_lo, centre), left_lo);
+      left_hi = xsimd::select(to_left, xsimd::max(left_hi, centre), left_hi);
+      right_lo = xsimd::select(to_left, right_lo, xsimd::min(right_lo, centre));
+      right_hi = xsimd::select(to_left, right_hi, xsimd::max(right_hi, centre));
+    }
+    left_centroids.grow(left_lo, left_hi);
+    right_centroids.grow(right_lo, right_hi);
+    std::copy(&scratch_[c.begin], &scratch_[c.end], &p_[c.begin]);
+    return l;
+  }
+
+  // A stable partition over fixed blocks: note each prim's side and count each block's, then
+  // copy every prim to its place in the scratch array, and back. The same order whatever the
+  // thread count.
+  template <class Left>
+  std::size_t partition_parallel(const Cluster& c, const Left& goes_left, Box& left_centroids,
+                                 Box& right_centroids) {
+    struct Block {
+      std::size_t left = 0;
+      Box left_centroids, right_centroids;
+    };
+    const std::size_t blocks = (c.size() + block_ - 1) / block_;
+    const auto block_begin = [&](std::size_t b) { return c.begin + b * block_; };
+    const auto block_end = [&](std::size_t b) {
+      return std::min(c.begin + (b + 1) * block_, c.end);
+    };
+    std::vector<Block> info(blocks);
+    parallel_for(blocks, 1, [&](std::size_t b) {
+      Block& k = info[b];
+      for (std::size_t i = block_begin(b); i < block_end(b); ++i) {
+        const Lanes centre = p_[i].centre();
+        const bool left = goes_left(centre);
+        left_side_[i] = left;
+        k.left += left;
+        (left ? k.left_centroids : k.right_centroids).grow(centre);
+      }
+    });
+    std::vector<std::size_t> left_at(blocks), right_at(blocks);
+    std::size_t lefts = 0;
+    for (std::size_t b = 0; b < blocks; ++b) {
+      left_at[b] = lefts;
+      lefts += info[b].left;
+      left_centroids.grow(info[b].left_centroids);
+      right_centroids.grow(info[b].right_centroids);
+    }
+    for (std::size_t b = 0, rights = 0; b < blocks; ++b) {
+      right_at[b] = lefts + rights;
+      rights += (block_end(b) - block_begin(b)) - info[b].left;
+    }
+    parallel_for(blocks, 1, [&](std::size_t b) {
+      std::size_t l = c.begin + left_at[b], r = c.begin + right_at[b];
+      for (std::size_t i = block_begin(b); i < block_end(b); ++i)
+        scratch_[left_side_[i] ? l++ : r++] = p_[i];
+    });
+    parallel_for(blocks, 1, [&](std::size_t b) {
+      std::copy(&scratch_[block_begin(b)], &scratch_[block_end(b)], &p_[block_begin(b)]);
+    });
+    return c.begin + lefts;
   }
 
   // Cost of a side: its area times its leaf batches. A leaf of W spheres costs what a leaf of
@@ -278,7 +409,7 @@ class Builder {
   template <std::size_t Count>
   Split best_sah_split(const Cluster& c) const {
     using Bins = std::array<std::array<Bin, Count>, 3>;
-    std::array<float, 3> scale{}, origin{};
+    alignas(16) float scale[4] = {}, origin[4] = {};
     for (int k = 0; k < 3; ++k) {
       origin[k] = c.centroid.lo[k];
       const float extent = c.centroid.hi[k] - c.centroid.lo[k];
@@ -286,15 +417,18 @@ class Builder {
       const float s = static_cast<float>(Count) * (1.0f - 0x1p-20f) / extent;
       scale[k] = extent > 0.0f && std::isfinite(s) ? s : 0.0f;
     }
+    const Binning binning{Lanes::load_aligned(origin), Lanes::load_aligned(scale),
+                          Lanes(static_cast<float>(Count - 1))};
     const Bins bins = reduce_range(
-        c.begin, c.end, Bins{},
+        c.begin, c.end, parallel_min_, Bins{},
         [&](Bins& b, std::size_t i) {
           const Prim& p = p_[i];
+          alignas(16) std::int32_t index[4];
+          binning.bins(p.centre()).store_aligned(index);
           for (int k = 0; k < 3; ++k) {
             if (scale[k] == 0.0f) continue;
-            Bin& bin = b[k][bin_of<Count>(p.centroid[k], origin[k], scale[k])];
-            bin.box.grow(p.box);
-            bin.centroid.grow(p.centroid);
+            Bin& bin = b[k][static_cast<std::size_t>(index[k])];
+            p.grow(bin.box);
             ++bin.count;
           }
         },
@@ -322,7 +456,7 @@ class Builder {
             side_cost(left.box, left.count) + side_cost(right[i].box, right[i].count);
         if (cost < best_cost) {
           best_cost = cost;
-          best = {k, i, Count, scale[k], origin[k], left, right[i]};
+          best = {k, static_cast<std::int32_t>(i), binning, left, right[i]};
         }
       }
     }
@@ -344,55 +478,50 @@ class Builder {
     const std::size_t n = c.size();
     std::size_t left = (n / 2 + width_ - 1) / width_ * width_;
     if (left >= n) left = n / 2;
-    Prim* first = p_.data() + c.begin;
-    std::nth_element(first, first + left, first + n, [&](const Prim& a, const Prim& b) {
-      const float ca = a.centroid[axis], cb = b.centroid[axis];
-      return ca < cb || (ca == cb && a.id < b.id);
+    Prim* first = &p_[c.begin];
+    std::nth_element(first, first + left, first + n, [axis](const Prim& a, const Prim& b) {
+      const float ca = a.centre().get(axis), cb = b.centre().get(axis);
+      return ca < cb || (ca == cb && a.id() < b.id());
     });
     return c.begin + left;
   }
 
   Prims& p_;
+  Prims scratch_;
+  std::vector<std::uint8_t> left_side_;  // per prim, in the parallel partition
   std::size_t width_;
+  std::size_t parallel_min_;
+  std::size_t block_;
 };
 
-// Writes the built tree into the flat arrays, nodes in depth-first pre-order (a parent before
-// its children, which refit relies on) and leaves' spheres in the same order.
+// Writes the built tree's nodes in depth-first pre-order (a parent before its children, which
+// refit relies on). Leaves are ranges of the prims array, which after the build is already in
+// leaf order: a leaf's reference is its first sphere, its count sits in the node's last row.
 class Flattener {
  public:
-  Flattener(BvhArrays& out, const Prims& prims, SphereView src)
-      : out_(out), p_(prims), src_(src), w_(out.width) {}
+  explicit Flattener(BvhArrays& out) : out_(out), w_(out.width) {}
 
-  static std::size_t count_nodes(const Builder::Node& n) {
-    std::size_t count = 1;
-    for (const auto& c : n.children)
-      if (c.node) count += count_nodes(*c.node);
-    return count;
-  }
-  static std::size_t count_batches(const Builder::Node& n, std::size_t width) {
-    std::size_t count = 0;
-    for (const auto& c : n.children)
-      count += c.node ? count_batches(*c.node, width) : (c.cluster.size() + width - 1) / width;
-    return count;
-  }
-
-  void write(const Builder::Node& node) {
-    const std::size_t index = next_node_++;
+  void write(const Builder::Node& node, std::size_t index) {
     float* slots = out_.nodes.get() + index * 8 * w_;
+    std::size_t next = index + 1;
     for (std::size_t k = 0; k < w_; ++k) {
       const Builder::Node::Child* child = k < node.children.size() ? &node.children[k] : nullptr;
-      write_box(slots, k, child ? child->cluster.box : Box{});
-      std::uint32_t ref = kBvhEmptySlot;
+      std::uint32_t ref = kBvhEmptySlot, count = 0;
       if (child && child->node) {
-        ref = static_cast<std::uint32_t>(next_node_);
-        write(*child->node);
+        ref = static_cast<std::uint32_t>(next);
+        write(*child->node, next);
+        next += child->node->subtree_nodes;
       } else if (child) {
-        ref = write_leaf(child->cluster);
+        ref = kBvhLeafBit | static_cast<std::uint32_t>(child->cluster.begin);
+        count = static_cast<std::uint32_t>(child->cluster.size());
       }
+      write_box(slots, k, child ? child->cluster.box : Box{});
       slots[6 * w_ + k] = std::bit_cast<float>(ref);
+      slots[7 * w_ + k] = std::bit_cast<float>(count);
     }
   }
 
+ private:
   void write_box(float* slots, std::size_t k, const Box& b) {
     for (int axis = 0; axis < 3; ++axis) {
       slots[(2 * axis) * w_ + k] = b.lo[axis];
@@ -400,64 +529,80 @@ class Flattener {
     }
   }
 
- private:
-  std::uint32_t write_leaf(const Cluster& c) {
-    const std::size_t batches = (c.size() + w_ - 1) / w_;
-    const std::size_t first = next_batch_;
-    next_batch_ += batches;
-    for (std::size_t i = 0; i < batches * w_; ++i) {
-      const std::size_t slot = first * w_ + i;
-      if (c.begin + i < c.end) {
-        const std::uint32_t id = p_[c.begin + i].id;
-        out_.ids[slot] = id;
-        out_.spheres.set(static_cast<std::uint32_t>(slot), {src_.cx[id], src_.cy[id], src_.cz[id]},
-                         src_.radius[id]);
-      }
-    }
-    return kBvhLeafBit | static_cast<std::uint32_t>((batches - 1) << kBvhLeafBatchShift) |
-           static_cast<std::uint32_t>(first);
-  }
-
   BvhArrays& out_;
-  const Prims& p_;
-  SphereView src_;
   std::size_t w_;
-  std::size_t next_node_ = 0;
-  std::size_t next_batch_ = 0;
 };
 
 Prims make_prims(SphereView v) {
   Prims p(v.count);
-  parallel_for(v.count, [&](std::size_t i) {
-    const Box box = sphere_box(v.cx[i], v.cy[i], v.cz[i], v.radius[i]);
-    p[i] = {box, box.empty() ? Point{0.0f, 0.0f, 0.0f} : Point{v.cx[i], v.cy[i], v.cz[i]},
-            static_cast<std::uint32_t>(i)};
+  parallel_for(v.count, kBlock, [&](std::size_t i) {
+    p[i] = Prim::make(v.cx[i], v.cy[i], v.cz[i], v.radius[i], static_cast<std::uint32_t>(i));
   });
   return p;
 }
 
-void allocate(BvhArrays& out, std::size_t nodes, std::size_t batches) {
-  if (batches > std::size_t{kBvhLeafFirstMask} + 1 || nodes >= kBvhEmptySlot)
-    throw std::length_error("sphray::SphereBVH: too many spheres");
-  const std::size_t floats = nodes * 8 * out.width;
-  out.nodes.reset(
-      static_cast<float*>(::operator new[](floats * sizeof(float), std::align_val_t{64})));
-  std::fill_n(out.nodes.get(), floats, 0.0f);
-  out.node_count = nodes;
-  const std::size_t slots = batches * out.width;
-  out.ids.assign(slots, kNoHit);
-  out.spheres.reserve(slots);
-  for (std::size_t i = 0; i < slots; ++i)
-    out.spheres.add({0.0f, 0.0f, 0.0f}, 0.0f);  // never hit until a leaf fills it
+template <class T>
+BvhArrays::AlignedArray<T> allocate(std::size_t n) {
+  return BvhArrays::AlignedArray<T>(
+      static_cast<T*>(::operator new[](n * sizeof(T), std::align_val_t{64})));
 }
 
-BvhArrays build_serially_or_not(SphereView v, std::size_t width) {
+// Sphere slots: every sphere, then a batch of never-hit ones for the last leaf's whole-batch
+// read, rounded to 16 floats so that each of the four arrays starts on a cache line.
+std::size_t slot_count(std::size_t spheres, std::size_t width) {
+  return (spheres + width + 15) / 16 * 16;
+}
+
+// The arrays for a tree of nodes nodes over out.source_count spheres: the nodes zeroed, the
+// slots past the spheres never hit (radius 0, id kNoHit); the spheres' slots are written later.
+void allocate(BvhArrays& out, std::size_t nodes) {
+  if (nodes >= kBvhEmptySlot) throw std::length_error("sphray::SphereBVH: too many spheres");
+  out.nodes = allocate<float>(nodes * 8 * out.width);
+  std::fill_n(out.nodes.get(), nodes * 8 * out.width, 0.0f);
+  out.node_count = nodes;
+  const std::size_t n = out.source_count;
+  out.slots = slot_count(n, out.width);
+  out.spheres = allocate<float>(4 * out.slots);
+  out.ids = allocate<std::uint32_t>(out.slots);
+  for (std::size_t k = 0; k < 4; ++k)
+    std::fill(out.spheres.get() + k * out.slots + n, out.spheres.get() + (k + 1) * out.slots, 0.0f);
+  std::fill(out.ids.get() + n, out.ids.get() + out.slots, kNoHit);
+}
+
+// The spheres and ids of the built tree, from the prims in leaf order.
+void write_spheres(BvhArrays& out, const Prims& prims) {
+  float* x = out.spheres.get();
+  float *y = x + out.slots, *z = y + out.slots, *r = z + out.slots;
+  parallel_for(prims.size, kBlock, [&](std::size_t i) {
+    const Prim& p = prims[i];
+    x[i] = p.sphere[0];
+    y[i] = p.sphere[1];
+    z[i] = p.sphere[2];
+    r[i] = p.sphere[3];
+    out.ids[i] = p.id();
+  });
+}
+
+// Copies sphere ids[slot] of v into every slot that holds one, for refit.
+void copy_spheres(BvhArrays& out, SphereView v) {
+  float* x = out.spheres.get();
+  float *y = x + out.slots, *z = y + out.slots, *r = z + out.slots;
+  parallel_for(out.source_count, kBlock, [&](std::size_t slot) {
+    const std::uint32_t id = out.ids[slot];
+    x[slot] = v.cx[id];
+    y[slot] = v.cy[id];
+    z[slot] = v.cz[id];
+    r[slot] = v.radius[id];
+  });
+}
+
+BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min) {
   BvhArrays out;
   out.width = width;
   out.source_count = v.count;
   if (v.count == 0) return out;
   Prims prims = make_prims(v);
-  Builder builder(prims, width);
+  Builder builder(prims, width, parallel_min);
   // The root is always a node, even over a single leaf, so traversal starts the same way.
   Builder::Node root;
   const Cluster all = builder.cluster(0, v.count);
@@ -467,8 +612,9 @@ BvhArrays build_serially_or_not(SphereView v, std::size_t width) {
   } else {
     root = std::move(*builder.build(all, 0));
   }
-  allocate(out, Flattener::count_nodes(root), Flattener::count_batches(root, width));
-  Flattener(out, prims, v).write(root);
+  allocate(out, root.subtree_nodes);
+  Flattener(out).write(root, 0);
+  write_spheres(out, prims);
   return out;
 }
 
@@ -479,44 +625,41 @@ BvhData BvhArrays::data() const {
   d.width = width;
   d.nodes = nodes.get();
   d.node_count = node_count;
-  d.spheres = spheres.view();
-  d.ids = ids.data();
+  if (slots != 0) {
+    const float* x = spheres.get();
+    d.spheres = {x, x + slots, x + 2 * slots, x + 3 * slots, slots, slots};
+  }
+  d.ids = ids.get();
   d.count = source_count;
   return d;
 }
 
 std::size_t BvhArrays::memory_bytes() const {
-  return node_count * 8 * width * sizeof(float) + spheres.capacity() * 4 * sizeof(float) +
-         ids.capacity() * sizeof(std::uint32_t);
+  return node_count * 8 * width * sizeof(float) +
+         slots * (4 * sizeof(float) + sizeof(std::uint32_t));
 }
 
-BvhArrays build_bvh(SphereView spheres, std::size_t width, unsigned threads) {
+BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions& options) {
   if (spheres.count > (std::size_t{1} << 31))
     throw std::length_error("sphray::SphereBVH: more than 2^31 spheres");
 #if SPHRAY_HAS_TBB
   // More threads than the machine runs would only make oneTBB warn: the tree is the same.
   const int cores = tbb::info::default_concurrency();
-  const int use = threads == 0 ? cores : std::min(cores, static_cast<int>(threads));
+  const int use = options.threads == 0 ? cores : std::min(cores, static_cast<int>(options.threads));
   tbb::task_arena arena(use);
-  return arena.execute([&] { return build_serially_or_not(spheres, width); });
+  return arena.execute([&] { return build_here(spheres, width, options.parallel_min); });
 #else
-  (void)threads;
-  return build_serially_or_not(spheres, width);
+  return build_here(spheres, width, options.parallel_min);
 #endif
 }
 
 void refit_bvh(BvhArrays& tree, SphereView v) {
   if (v.count != tree.source_count)
     throw std::invalid_argument("sphray::SphereBVH::refit: the sphere count changed");
+  if (tree.node_count == 0) return;
+  copy_spheres(tree, v);
+  const BvhData d = tree.data();
   const std::size_t w = tree.width;
-  const std::size_t slots = tree.ids.size();
-  parallel_for(slots, [&](std::size_t slot) {
-    const std::uint32_t id = tree.ids[slot];
-    if (id == kNoHit) return;
-    tree.spheres.set(static_cast<std::uint32_t>(slot), {v.cx[id], v.cy[id], v.cz[id]},
-                     v.radius[id]);
-  });
-  const SphereView s = tree.spheres.view();
   // Children come after their parent, so a reverse sweep sees every child's boxes first.
   for (std::size_t n = tree.node_count; n-- > 0;) {
     float* slots_of = tree.nodes.get() + n * 8 * w;
@@ -525,10 +668,11 @@ void refit_bvh(BvhArrays& tree, SphereView v) {
       if (ref == kBvhEmptySlot) continue;
       Box box;
       if (ref & kBvhLeafBit) {
-        const std::size_t first = (ref & kBvhLeafFirstMask) * w;
-        const std::size_t count = (((ref & ~kBvhLeafBit) >> kBvhLeafBatchShift) + 1) * w;
+        const std::size_t first = ref & kBvhLeafFirstMask;
+        const std::size_t count = std::bit_cast<std::uint32_t>(slots_of[7 * w + k]);
         for (std::size_t i = first; i < first + count; ++i)
-          box.grow(sphere_box(s.cx[i], s.cy[i], s.cz[i], s.radius[i]));
+          box.grow(
+              sphere_box(d.spheres.cx[i], d.spheres.cy[i], d.spheres.cz[i], d.spheres.radius[i]));
       } else {
         const float* child = tree.nodes.get() + std::size_t{ref} * 8 * w;
         for (std::size_t j = 0; j < w; ++j)

@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <memory>
 #include <new>
-#include <vector>
 
 #include "sphray/bvh.hpp"
 #include "sphray/spheres.hpp"
@@ -15,15 +14,22 @@ namespace sphray::detail {
 
 /// What a built tree owns; BvhData points into it.
 struct BvhArrays {
+  template <class T>
   struct AlignedDelete {
-    void operator()(float* p) const { ::operator delete[](p, std::align_val_t{64}); }
+    void operator()(T* p) const { ::operator delete[](p, std::align_val_t{64}); }
   };
+  template <class T>
+  using AlignedArray = std::unique_ptr<T[], AlignedDelete<T>>;
+
   std::size_t width = 0;
-  std::unique_ptr<float[], AlignedDelete> nodes;
+  AlignedArray<float> nodes;
   std::size_t node_count = 0;
-  SphereSoA spheres;               // leaf order, padded to whole batches
-  std::vector<std::uint32_t> ids;  // per sphere slot; kNoHit for padding
-  std::size_t source_count = 0;    // the view's count
+  /// Four arrays of slots floats (cx, cy, cz, radius): the spheres in leaf order, then width
+  /// never-hit spheres that a read of the last leaf's whole batch may reach.
+  AlignedArray<float> spheres;
+  AlignedArray<std::uint32_t> ids;  // per slot; kNoHit for the padding
+  std::size_t slots = 0;
+  std::size_t source_count = 0;  // the view's count
 
   BvhData data() const;
   std::size_t memory_bytes() const;
@@ -32,9 +38,9 @@ struct BvhArrays {
 /// Child reference of a node slot that holds nothing (its box is empty).
 inline constexpr std::uint32_t kBvhEmptySlot = 0x7fffffffu;
 
-/// Builds the tree over spheres for nodes and leaves of width children / spheres, on at most
-/// threads threads (0: all). Throws std::length_error past 2^31 spheres.
-BvhArrays build_bvh(SphereView spheres, std::size_t width, unsigned threads);
+/// Builds the tree over spheres for nodes of width children and leaves of at most width
+/// spheres. Throws std::length_error past 2^31 spheres.
+BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions& options);
 
 /// Copies the moved spheres into the tree's leaf order and recomputes every box bottom-up.
 void refit_bvh(BvhArrays& tree, SphereView spheres);

@@ -42,20 +42,23 @@ void visit(const BvhData& bvh, const Ray& ray, const float& tmax, Leaf&& leaf) {
   // far outside the node array.
   if (bvh.node_count == 0 || !valid_ray(ray)) return;
   const std::size_t w = bvh.width;
-  std::uint32_t stack[kBvhMaxDepth * (kScalarBvhWidth - 1) + 1];
+  struct Entry {
+    std::uint32_t ref, count;
+  };
+  Entry stack[kBvhMaxDepth * (kScalarBvhWidth - 1) + 1];
   std::size_t top = 0;
-  stack[top++] = 0;
+  stack[top++] = {0, 0};
   while (top > 0) {
-    const std::uint32_t ref = stack[--top];
-    if (ref & kBvhLeafBit) {
-      const std::size_t batches = ((ref & ~kBvhLeafBit) >> kBvhLeafBatchShift) + 1;
-      if (leaf((ref & kBvhLeafFirstMask) * w, batches * w)) return;
+    const Entry e = stack[--top];
+    if (e.ref & kBvhLeafBit) {
+      if (leaf(std::size_t{e.ref & kBvhLeafFirstMask}, std::size_t{e.count})) return;
       continue;
     }
-    const float* node = bvh.nodes + std::size_t{ref} * 8 * w;
+    const float* node = bvh.nodes + std::size_t{e.ref} * 8 * w;
     for (std::size_t k = 0; k < w; ++k)
       if (enters(node, w, k, ray, tmax))
-        stack[top++] = std::bit_cast<std::uint32_t>(node[6 * w + k]);
+        stack[top++] = {std::bit_cast<std::uint32_t>(node[6 * w + k]),
+                        std::bit_cast<std::uint32_t>(node[7 * w + k])};
   }
 }
 
@@ -71,7 +74,7 @@ constexpr std::size_t kSingleLeafBelow = 8;
 template <class Leaf>
 void visit_leaves(const BvhData& bvh, const Ray& ray, const float& tmax, Leaf&& leaf) {
   if (bvh.count < kSingleLeafBelow)
-    leaf(0, bvh.spheres.count);
+    leaf(0, bvh.count);
   else
     visit(bvh, ray, tmax, leaf);
 }
@@ -82,7 +85,6 @@ Hit scalar_bvh_intersect(const BvhData& bvh, const Ray& ray) {
   Hit best{ray.tmax, kNoHit};
   visit_leaves(bvh, ray, best.t, [&](std::size_t first, std::size_t count) {
     for (std::size_t i = first; i < first + count; ++i) {
-      if (bvh.ids[i] == kNoHit) continue;  // padding of a partly filled leaf
       // The sphere's own hit within the ray's full interval, then the contract's order: the
       // smaller t, and on equal t the lower id.
       const Hit h = scalar::intersect(one_sphere(bvh.spheres, i), ray);
@@ -99,7 +101,7 @@ bool scalar_bvh_occluded(const BvhData& bvh, const Ray& ray) {
   bool hit = false;
   visit_leaves(bvh, ray, ray.tmax, [&](std::size_t first, std::size_t count) {
     for (std::size_t i = first; i < first + count && !hit; ++i)
-      hit = bvh.ids[i] != kNoHit && scalar::occluded(one_sphere(bvh.spheres, i), ray);
+      hit = scalar::occluded(one_sphere(bvh.spheres, i), ray);
     return hit;
   });
   return hit;

@@ -130,8 +130,8 @@ struct BvhTraversal {
     }
   }
 
-  // Visits the tree: for each leaf the ray may reach before best_t, calls leaf(first sphere,
-  // batch count), which returns whether to stop. Nodes are entered nearest child first.
+  // Visits the tree: for each leaf the ray may reach before best_t, calls leaf(first sphere),
+  // which returns whether to stop. Nodes are entered nearest child first.
   template <class Leaf>
   static void traverse(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf&& leaf) {
     if (bvh.node_count == 0) return;
@@ -145,10 +145,8 @@ struct BvhTraversal {
         Floats tnear;
         const unsigned bits = LaneReduce<A>::bits(enter_children(s, node, Floats(best_t), tnear));
         push_children(node, bits, tnear, stack, top);
-      } else {
-        const std::size_t first = (ref & kBvhLeafFirstMask) * kWidth;
-        const std::size_t batches = ((ref & ~kBvhLeafBit) >> kBvhLeafBatchShift) + 1;
-        if (leaf(first, batches)) return;
+      } else if (leaf(std::size_t{ref & kBvhLeafFirstMask})) {
+        return;
       }
       // Entries behind the best hit so far can only hold farther spheres.
       do {
@@ -159,13 +157,15 @@ struct BvhTraversal {
     }
   }
 
+  // A leaf is at most kWidth spheres from its first: one batch read from there holds all of
+  // them, and its other lanes the next leaf's spheres (or never-hit padding), whose hits are
+  // real and may only bring the closest one in earlier.
   static Hit intersect(const BvhData& bvh, const Ray& ray) {
     typename Batch::RaySetup s;
     Hit best{ray.tmax, kNoHit};
     if (!Batch::setup(ray, s)) return best;
-    traverse(bvh, ray, best.t, [&](std::size_t first, std::size_t batches) {
-      for (std::size_t b = 0; b < batches; ++b)
-        keep_closest(bvh, s, first + b * kWidth, best);
+    traverse(bvh, ray, best.t, [&](std::size_t first) {
+      keep_closest(bvh, s, first, best);
       return false;
     });
     return best;
@@ -196,13 +196,11 @@ struct BvhTraversal {
     if (!Batch::setup(ray, s)) return false;
     const Floats tmax(s.tmax);
     bool hit = false;
-    traverse(bvh, ray, s.tmax, [&](std::size_t first, std::size_t batches) {
-      for (std::size_t b = 0; b < batches && !hit; ++b) {
-        Floats t;
-        Mask live;
-        hit = Batch::roots(s, Batch::load(bvh.spheres, first + b * kWidth), t, live) &&
-              xsimd::any(live & (t > s.tmin) & (t < tmax));
-      }
+    traverse(bvh, ray, s.tmax, [&](std::size_t first) {
+      Floats t;
+      Mask live;
+      hit = Batch::roots(s, Batch::load(bvh.spheres, first), t, live) &&
+            xsimd::any(live & (t > s.tmin) & (t < tmax));
       return hit;
     });
     return hit;

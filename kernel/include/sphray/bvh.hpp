@@ -33,10 +33,13 @@ struct BvhData {
   std::size_t width = 0;
   /// Node k starts at nodes + k * 8 * width: the children's boxes as six arrays of width floats
   /// (lo x, hi x, lo y, hi y, lo z, hi z), then width child references (uint32 bits), then
-  /// width unused floats that keep every node on a 64-byte boundary. Node 0 is the root.
+  /// width leaf sphere counts (uint32 bits; 0 for a node or an empty slot), so that every node
+  /// is 64-byte aligned. Node 0 is the root.
   const float* nodes = nullptr;
   std::size_t node_count = 0;
-  /// The spheres in leaf order, padded with never-hit spheres to whole batches, and each
+  /// The spheres in leaf order, each leaf a range of at most width of them, then width
+  /// never-hit spheres, so that every leaf can be read as one whole batch (the spheres past a
+  /// leaf's end belong to the next leaf: real spheres, whose hits are real). ids holds each
   /// one's id in the view the tree was built from (kNoHit for padding).
   SphereView spheres{nullptr, nullptr, nullptr, nullptr, 0, 0};
   const std::uint32_t* ids = nullptr;
@@ -44,11 +47,10 @@ struct BvhData {
   std::size_t count = 0;
 };
 
-/// A child reference with this bit set is a leaf: bits 0-26 hold its first batch, bits 27-30
-/// its batch count minus one. Otherwise it is a node's index.
+/// A child reference with this bit set is a leaf: bits 0-30 hold its first sphere. Otherwise
+/// it is a node's index.
 inline constexpr std::uint32_t kBvhLeafBit = 0x80000000u;
-inline constexpr std::uint32_t kBvhLeafBatchShift = 27;
-inline constexpr std::uint32_t kBvhLeafFirstMask = (1u << kBvhLeafBatchShift) - 1;
+inline constexpr std::uint32_t kBvhLeafFirstMask = kBvhLeafBit - 1;
 /// The deepest tree the builder makes (it switches to median splits to stay within it), which
 /// bounds the traversal stack to kBvhMaxDepth * (width - 1) + 1 entries.
 inline constexpr std::size_t kBvhMaxDepth = 64;
@@ -58,6 +60,11 @@ inline constexpr std::size_t kBvhMaxDepth = 64;
 struct BvhBuildOptions {
   /// Threads the builder may use; 0: all. The tree is the same whatever this is.
   unsigned threads = 0;
+  /// Ranges of fewer spheres than this (at least 1024) are built by one thread; larger ones
+  /// are binned, partitioned and split into tasks in parallel. The tree is the same for the
+  /// same value whatever the thread count; another value may order the spheres within a leaf
+  /// differently (never the results of a query).
+  std::size_t parallel_min = 16384;
 };
 
 class SphereBVH {
