@@ -17,13 +17,11 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "parallel.hpp"
+
 #if SPHRAY_HAS_TBB
-#include <tbb/blocked_range.h>
 #include <tbb/info.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
-#include <tbb/task_group.h>
 #endif
 
 namespace sphray::detail {
@@ -141,52 +139,6 @@ struct Binning {
   }
 };
 
-// Runs body(i) for i in [0, n), in parallel in chunks of grain.
-template <class Body>
-void parallel_for(std::size_t n, std::size_t grain, Body&& body) {
-#if SPHRAY_HAS_TBB
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i < r.end(); ++i)
-                        body(i);
-                    });
-#else
-  (void)grain;
-  for (std::size_t i = 0; i < n; ++i)
-    body(i);
-#endif
-}
-
-// Combines fold(i) for i in [begin, end) with join; in parallel from parallel_min on. join
-// must be associative and commutative and exact (counts, min, max): the result is then the
-// same whatever the split.
-template <class T, class Fold, class Join>
-T reduce_range(std::size_t begin, std::size_t end, std::size_t parallel_min, const T& identity,
-               Fold&& fold, Join&& join) {
-#if SPHRAY_HAS_TBB
-  if (end - begin >= parallel_min) {
-    return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(begin, end, kBlock), identity,
-        [&](const tbb::blocked_range<std::size_t>& r, T acc) {
-          for (std::size_t i = r.begin(); i < r.end(); ++i)
-            fold(acc, i);
-          return acc;
-        },
-        [&](T a, const T& b) {
-          join(a, b);
-          return a;
-        });
-  }
-#else
-  (void)join;  // one thread: nothing to join
-  (void)parallel_min;
-#endif
-  T acc = identity;
-  for (std::size_t i = begin; i < end; ++i)
-    fold(acc, i);
-  return acc;
-}
-
 // A range of the prims that will become one child of a node.
 struct Cluster {
   std::size_t begin, end;
@@ -239,7 +191,7 @@ class Builder {
       Box box, centroid;
     };
     const Acc acc = reduce_range(
-        begin, end, parallel_min_, Acc{},
+        begin, end, parallel_min_, block_, Acc{},
         [&](Acc& a, std::size_t i) {
           p_[i].grow(a.box);
           a.centroid.grow(p_[i].centre());
@@ -273,8 +225,7 @@ class Builder {
 
  private:
   void build_children(Node& node, std::size_t depth) {
-#if SPHRAY_HAS_TBB
-    tbb::task_group group;
+    TaskGroup group;
     for (auto& child : node.children) {
       if (child.cluster.size() <= width_) continue;
       if (child.cluster.size() >= parallel_min_)
@@ -283,10 +234,6 @@ class Builder {
         child.node = build(child.cluster, depth);
     }
     group.wait();
-#else
-    for (auto& child : node.children)
-      if (child.cluster.size() > width_) child.node = build(child.cluster, depth);
-#endif
   }
 
   // The part to split next: the one with the largest area among those over the width.
@@ -420,7 +367,7 @@ class Builder {
     const Binning binning{Lanes::load_aligned(origin), Lanes::load_aligned(scale),
                           Lanes(static_cast<float>(Count - 1))};
     const Bins bins = reduce_range(
-        c.begin, c.end, parallel_min_, Bins{},
+        c.begin, c.end, parallel_min_, block_, Bins{},
         [&](Bins& b, std::size_t i) {
           const Prim& p = p_[i];
           alignas(16) std::int32_t index[4];

@@ -235,14 +235,22 @@ bool same_tree(const SphereBVH& a, const SphereBVH& b) {
 TEST(Bvh, BuildIsTheSameWhateverTheThreadCount) {
   std::mt19937 rng(9);
   for (Kind kind : {Kind::uniform, Kind::clustered, Kind::identical}) {
-    // Large enough that the builder splits its work across threads (from 16384 spheres on),
-    // also in the sanitizer runs, which scale the workload down.
-    const std::size_t n = std::max<std::size_t>(test::scaled(100000), 20000);
+    // parallel_min 1024 splits the work across threads from 1024 spheres on, so that even the
+    // sanitizer runs, which scale the workload down, build in parallel at every level.
+    const std::size_t n = std::max<std::size_t>(test::scaled(100000), 8000);
     const test::LooseSpheres scene = make_scene(kind, n, rng);
-    const SphereBVH one(scene.view(), BvhBuildOptions{1});
+    const SphereBVH one(scene.view(), BvhBuildOptions{1, 1024});
     for (unsigned threads : {2u, 3u, 0u}) {
-      const SphereBVH many(scene.view(), BvhBuildOptions{threads});
+      const SphereBVH many(scene.view(), BvhBuildOptions{threads, 1024});
       EXPECT_TRUE(same_tree(one, many)) << kind_name(kind) << ", " << threads << " threads";
+    }
+    // The default work split builds a tree that answers the same.
+    const SphereBVH standard(scene.view());
+    const auto rays = make_rays(2000, scene.view(), standard, rng);
+    for (const Ray& ray : rays) {
+      const Hit a = intersect(one, ray), b = intersect(standard, ray);
+      ASSERT_EQ(a.id, b.id) << kind_name(kind);
+      ASSERT_EQ(a.t, b.t) << kind_name(kind);
     }
   }
 }
