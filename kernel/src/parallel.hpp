@@ -30,8 +30,9 @@
 
 namespace sphray::detail {
 
-/// A happens-before edge through one address, for ThreadSanitizer (nothing otherwise): what a
-/// thread did before release() happens before what any thread does after a later acquire().
+/// A happens-before edge through one address (the object's own: empty, it still has a unique
+/// one), for ThreadSanitizer, nothing otherwise: what a thread did before release() happens
+/// before what any thread does after a later acquire().
 class HappensBefore {
  public:
   void release() {
@@ -44,9 +45,6 @@ class HappensBefore {
     __tsan_acquire(this);
 #endif
   }
-
- private:
-  char address_ = 0;
 };
 
 /// The two edges of a fork-join: caller -> each task, each task -> caller.
