@@ -18,6 +18,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "parallel.hpp"
+#include "validity.hpp"
 
 #if SPHRAY_HAS_TBB
 #include <tbb/info.h>
@@ -68,10 +69,6 @@ struct alignas(16) Box {
   }
 };
 
-bool valid_sphere(float x, float y, float z, float r) {
-  return std::isfinite(x) && std::isfinite(y) && std::isfinite(z) && std::isfinite(r) && r > 0.0f;
-}
-
 // Half the side of a sphere's box on one axis: the radius, widened by 2^-20 of the
 // coordinate's magnitude. That is more than the rounding of c -+ e, and enough to hold a grazing
 // hit that the kernel's own rounding puts just outside the exact sphere.
@@ -90,7 +87,7 @@ struct alignas(16) Prim {
 
   static Prim make(float x, float y, float z, float r, std::uint32_t id) {
     Prim p{{0.0f, 0.0f, 0.0f, 0.0f}, {-kInf, -kInf, -kInf, 0.0f}};
-    if (valid_sphere(x, y, z, r))
+    if (valid_sphere({x, y, z}, r))
       p = {{x, y, z, r}, {half_extent(x, r), half_extent(y, r), half_extent(z, r), 0.0f}};
     p.extent[3] = std::bit_cast<float>(id);
     return p;

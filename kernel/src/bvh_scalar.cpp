@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "ray_validity.hpp"
+#include "validity.hpp"
 #include "sphray/query.hpp"
 
 namespace sphray::detail {

@@ -6,8 +6,8 @@
 
 #include "bvh_scalar.hpp"
 #include "kernel_table.hpp"
-#include "ray_validity.hpp"
 #include "sphray/query.hpp"
+#include "validity.hpp"
 
 namespace sphray::detail {
 bool valid_ray(const Ray& ray) {
@@ -21,10 +21,7 @@ namespace sphray::scalar {
 namespace {
 
 using detail::valid_ray;
-
-bool valid_sphere(Vec3 center, float radius) {
-  return isfinite(center) && std::isfinite(radius) && radius > 0.0f;
-}
+using detail::valid_sphere;
 
 // The ray parameter at which ray enters the sphere, or leaves it if it starts inside, when that
 // lies in (tmin, tmax). See SphereBatchKernel::roots for the precision method.

@@ -1,0 +1,23 @@
+// The contract's tests for rays and spheres that miss everything, shared by the scalar code
+// paths and the BVH builder (the SIMD kernel has its own copy in SphereBatchKernel: per-ISA units
+// call no shared inline code).
+#pragma once
+
+#include <cmath>
+
+#include "sphray/ray.hpp"
+#include "sphray/vec3.hpp"
+
+namespace sphray::detail {
+
+/// False for a NaN or infinite origin or direction component, a direction whose squared length
+/// is not a normal finite float, a NaN bound, or !(tmin < tmax).
+bool valid_ray(const Ray& ray);
+
+/// False for a NaN or infinite centre component or radius, or a radius <= 0: such a sphere is
+/// never hit.
+inline bool valid_sphere(Vec3 center, float radius) {
+  return isfinite(center) && std::isfinite(radius) && radius > 0.0f;
+}
+
+}  // namespace sphray::detail
