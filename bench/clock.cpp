@@ -53,58 +53,56 @@ void core_clock(benchmark::State& state) {
 // A normal input: denormal or NaN operands could take a slow microcode path.
 constexpr float kTwo = 2.0f;
 
-void report_per_instruction(benchmark::State& state, double tsc_per_loop_) {
-  state.counters["tsc_per_instruction"] = tsc_per_loop_ / 8;
+// The vector registers the loops below write.
+#define SPHRAY_CLOBBERS \
+  "xmm0", "xmm1", "xmm2", "xmm3", "xmm4", "xmm5", "xmm6", "xmm7", "xmm8", "xmm9"
+
+// Times loop, eight of one instruction, if the processor has its instruction set, and reports
+// TSC ticks per instruction.
+template <class Loop>
+void time_eight(benchmark::State& state, bool supported, const char* missing, Loop loop) {
+  if (!supported) return state.SkipWithError(missing);
+  const double tsc = tsc_per_loop(state, loop);
+  asm volatile("vzeroupper");
+  state.counters["tsc_per_instruction"] = tsc / 8;
 }
 
 void vsqrtps_ymm(benchmark::State& state) {
-  if (!__builtin_cpu_supports("avx")) return state.SkipWithError("no AVX");
-  const double t = tsc_per_loop(state, [] {
+  time_eight(state, __builtin_cpu_supports("avx"), "no AVX", [] {
     asm volatile("vbroadcastss %0, %%ymm8\n\t" SPHRAY_EIGHT("vsqrtps", "%%ymm8", "ymm")
                  :
                  : "m"(kTwo)
-                 : "xmm0", "xmm1", "xmm2", "xmm3", "xmm4", "xmm5", "xmm6", "xmm7", "xmm8", "xmm9");
+                 : SPHRAY_CLOBBERS);
   });
-  asm volatile("vzeroupper");
-  report_per_instruction(state, t);
 }
 
 void vdivps_ymm(benchmark::State& state) {
-  if (!__builtin_cpu_supports("avx")) return state.SkipWithError("no AVX");
-  const double t = tsc_per_loop(state, [] {
+  time_eight(state, __builtin_cpu_supports("avx"), "no AVX", [] {
     asm volatile("vbroadcastss %0, %%ymm8\n\tvbroadcastss %0, %%ymm9\n\t" SPHRAY_EIGHT(
                      "vdivps", "%%ymm8, %%ymm9", "ymm")
                  :
                  : "m"(kTwo)
-                 : "xmm0", "xmm1", "xmm2", "xmm3", "xmm4", "xmm5", "xmm6", "xmm7", "xmm8", "xmm9");
+                 : SPHRAY_CLOBBERS);
   });
-  asm volatile("vzeroupper");
-  report_per_instruction(state, t);
 }
 
 void vsqrtps_zmm(benchmark::State& state) {
-  if (!__builtin_cpu_supports("avx512f")) return state.SkipWithError("no AVX-512");
-  const double t = tsc_per_loop(state, [] {
+  time_eight(state, __builtin_cpu_supports("avx512f"), "no AVX-512", [] {
     asm volatile("vbroadcastss %0, %%zmm8\n\t" SPHRAY_EIGHT("vsqrtps", "%%zmm8", "zmm")
                  :
                  : "m"(kTwo)
-                 : "xmm0", "xmm1", "xmm2", "xmm3", "xmm4", "xmm5", "xmm6", "xmm7", "xmm8", "xmm9");
+                 : SPHRAY_CLOBBERS);
   });
-  asm volatile("vzeroupper");
-  report_per_instruction(state, t);
 }
 
 void vdivps_zmm(benchmark::State& state) {
-  if (!__builtin_cpu_supports("avx512f")) return state.SkipWithError("no AVX-512");
-  const double t = tsc_per_loop(state, [] {
+  time_eight(state, __builtin_cpu_supports("avx512f"), "no AVX-512", [] {
     asm volatile("vbroadcastss %0, %%zmm8\n\tvbroadcastss %0, %%zmm9\n\t" SPHRAY_EIGHT(
                      "vdivps", "%%zmm8, %%zmm9", "zmm")
                  :
                  : "m"(kTwo)
-                 : "xmm0", "xmm1", "xmm2", "xmm3", "xmm4", "xmm5", "xmm6", "xmm7", "xmm8", "xmm9");
+                 : SPHRAY_CLOBBERS);
   });
-  asm volatile("vzeroupper");
-  report_per_instruction(state, t);
 }
 
 #endif
