@@ -26,6 +26,8 @@ struct BvhTraversal {
   using Mask = typename Batch::Mask;
   static constexpr std::size_t kWidth = Batch::kWidth;
   static constexpr std::size_t kNodeFloats = 8 * kWidth;
+  // A node visit leaves at most kWidth - 1 entries above its ancestors' (one child is visited
+  // next), and writes at most one slot past them: kBvhMaxDepth levels fit in this.
   static constexpr std::size_t kStackSize = kBvhMaxDepth * (kWidth - 1) + 1;
 
   // Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013: with every slab distance computed as
@@ -87,26 +89,47 @@ struct BvhTraversal {
     return Floats::load_aligned(node + array * kWidth);
   }
 
-  // The children whose boxes the ray enters before best_t, and where it enters them.
+  // Rays with tmin >= 0 and a finite inverse of every direction component: no slab distance
+  // can be NaN (that needs 0 * inf) and every entered box starts at tnear >= 0. Nearly every
+  // ray is one (camera and scattered rays start at tmin = 0 or an epsilon), and for them the
+  // box test below needs no NaN-ordered min/max chain and no sign selects.
+  static bool ahead(const Ray& ray) {
+    return ray.tmin >= 0.0f && __builtin_isfinite(1.0f / ray.dir.x) &&
+           __builtin_isfinite(1.0f / ray.dir.y) && __builtin_isfinite(1.0f / ray.dir.z);
+  }
+
+  // The children whose boxes the ray enters before best_t, and where it enters them. kAhead:
+  // the ray passed ahead(); both forms return the same mask and tnear for such a ray.
+  template <bool kAhead>
   static Mask enter_children(const NodeSetup& s, const float* node, const Floats& best_t,
                              Floats& tnear) {
-    const Floats inf(__builtin_inff());
     const Floats near_x = (plane(node, s.near_x) - s.ox) * s.inv_dx;
     const Floats near_y = (plane(node, s.near_y) - s.oy) * s.inv_dy;
     const Floats near_z = (plane(node, s.near_z) - s.oz) * s.inv_dz;
     const Floats far_x = (plane(node, s.near_x ^ 1u) - s.ox) * s.inv_dx;
     const Floats far_y = (plane(node, s.near_y ^ 1u) - s.oy) * s.inv_dy;
     const Floats far_z = (plane(node, s.near_z ^ 1u) - s.oz) * s.inv_dz;
-    tnear = max_or_second(near_x, max_or_second(near_y, max_or_second(near_z, s.tmin)));
-    const Floats tfar = min_or_second(far_x, min_or_second(far_y, min_or_second(far_z, inf)));
-    // Ize's tnear <= tfar * (1 + 2 gamma(3)) is conservative only for tfar >= 0, but tmin may
-    // be negative and boxes then lie behind the origin: widen each end by 2 gamma(3) of its own
-    // magnitude instead, which holds for either sign (and keeps +-inf, never making NaN). The
-    // widened tnear is also what best_t is compared with, here and when the child is popped.
-    const Floats zero(0.0f), shrink(1.0f - 2.0f * kGamma3), grow(kExitScale);
-    tnear = tnear * xsimd::select(tnear >= zero, shrink, grow);
-    const Floats tfar_widened = tfar * xsimd::select(tfar >= zero, grow, shrink);
-    // <= best_t, not <: a sphere at exactly best_t with a lower id still wins.
+    const Floats shrink(1.0f - 2.0f * kGamma3), grow(kExitScale);
+    Floats tfar_widened;
+    if constexpr (kAhead) {
+      // No NaN: plain min/max, in a tree rather than a chain (the box test is on the path from
+      // one node to the next). tnear >= tmin >= 0, so it shrinks; a negative tfar (a box behind
+      // the origin, with an exact sign: rounding keeps it) is rejected scaled either way.
+      tnear = xsimd::max(xsimd::max(near_x, near_y), xsimd::max(near_z, s.tmin)) * shrink;
+      tfar_widened = xsimd::min(xsimd::min(far_x, far_y), far_z) * grow;
+    } else {
+      const Floats inf(__builtin_inff()), zero(0.0f);
+      tnear = max_or_second(near_x, max_or_second(near_y, max_or_second(near_z, s.tmin)));
+      const Floats tfar = min_or_second(far_x, min_or_second(far_y, min_or_second(far_z, inf)));
+      // Ize's tnear <= tfar * (1 + 2 gamma(3)) is conservative only for tfar >= 0, but tmin
+      // may be negative and boxes then lie behind the origin: widen each end by 2 gamma(3) of
+      // its own magnitude instead, which holds for either sign (and keeps +-inf, never making
+      // NaN).
+      tnear = tnear * xsimd::select(tnear >= zero, shrink, grow);
+      tfar_widened = tfar * xsimd::select(tfar >= zero, grow, shrink);
+    }
+    // The widened tnear is also what best_t is compared with, here and when the child is
+    // popped. <= best_t, not <: a sphere at exactly best_t with a lower id still wins.
     return (tnear <= tfar_widened) & (tnear <= best_t);
   }
 
@@ -114,20 +137,34 @@ struct BvhTraversal {
     return std::bit_cast<std::uint32_t>(node[6 * kWidth + lane]);
   }
 
-  // Pushes the entered children farthest first, so the nearest is popped next.
-  static void push_children(const float* node, unsigned bits, const Floats& tnear,
-                            StackEntry* stack, std::size_t& top) {
+  // Pushes the entered children but the nearest, farthest first, and returns the nearest: it
+  // is visited next, with no trip through the stack. One or two children, what most nodes give
+  // an incoherent ray, take a path without data-dependent branches.
+  static std::uint32_t enter(const float* node, unsigned bits, const Floats& tnear,
+                             StackEntry* stack, std::size_t& top) {
     alignas(64) float t[kWidth];
     tnear.store_aligned(t);
+    const unsigned rest = bits & (bits - 1);
+    if ((rest & (rest - 1)) == 0) {
+      const auto a = static_cast<unsigned>(__builtin_ctz(bits));
+      const auto b = rest != 0 ? static_cast<unsigned>(__builtin_ctz(rest)) : a;
+      const bool b_first = t[b] <= t[a];
+      const unsigned nearer = b_first ? b : a, farther = b_first ? a : b;
+      // Written even for one child: the slot above top is free (see kStackSize).
+      stack[top] = {child_ref(node, farther), t[farther]};
+      top += rest != 0;
+      return child_ref(node, nearer);
+    }
     const std::size_t first = top;
-    for (; bits != 0; bits &= bits - 1) {
-      const auto lane = static_cast<unsigned>(__builtin_ctz(bits));
+    for (unsigned left = bits; left != 0; left &= left - 1) {
+      const auto lane = static_cast<unsigned>(__builtin_ctz(left));
       const StackEntry e{child_ref(node, lane), t[lane]};
       std::size_t i = top++;
       for (; i > first && stack[i - 1].tnear < e.tnear; --i)
         stack[i] = stack[i - 1];
       stack[i] = e;
     }
+    return stack[--top].ref;
   }
 
   // Visits the tree: for each leaf the ray may reach before best_t, calls leaf(first sphere),
@@ -135,6 +172,14 @@ struct BvhTraversal {
   template <class Leaf>
   static void traverse(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf&& leaf) {
     if (bvh.node_count == 0) return;
+    if (ahead(ray))
+      traverse_from<true>(bvh, ray, best_t, leaf);
+    else
+      traverse_from<false>(bvh, ray, best_t, leaf);
+  }
+
+  template <bool kAhead, class Leaf>
+  static void traverse_from(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf& leaf) {
     const NodeSetup s = node_setup(ray);
     StackEntry stack[kStackSize];
     std::size_t top = 0;
@@ -143,8 +188,12 @@ struct BvhTraversal {
       if ((ref & kBvhLeafBit) == 0) {
         const float* node = bvh.nodes + std::size_t{ref} * kNodeFloats;
         Floats tnear;
-        const unsigned bits = LaneReduce<A>::bits(enter_children(s, node, Floats(best_t), tnear));
-        push_children(node, bits, tnear, stack, top);
+        const unsigned bits =
+            LaneReduce<A>::bits(enter_children<kAhead>(s, node, Floats(best_t), tnear));
+        if (bits != 0) {
+          ref = enter(node, bits, tnear, stack, top);
+          continue;
+        }
       } else if (leaf(std::size_t{ref & kBvhLeafFirstMask})) {
         return;
       }

@@ -96,7 +96,9 @@ std::vector<Ray> make_rays(std::size_t count, const SphereView& v, const SphereB
         const int axis = static_cast<int>(rng() % 3);
         float* o[] = {&ray.origin.x, &ray.origin.y, &ray.origin.z};
         float* dir[] = {&ray.dir.x, &ray.dir.y, &ray.dir.z};
-        *dir[axis] = 0.0f;
+        // Zero, or so small (subnormal) that its inverse is still infinite.
+        const float tiny[] = {0.0f, -0.0f, 0x1p-140f, -0x1p-140f};
+        *dir[axis] = tiny[rng() % 4];
         if (d.node_count != 0) {
           const float* node = d.nodes + (rng() % d.node_count) * 8 * d.width;
           const float plane = node[(2 * axis + rng() % 2) * d.width + rng() % d.width];
