@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
-#include "validity.hpp"
 #include "sphray/query.hpp"
+#include "validity.hpp"
 
 namespace sphray::detail {
 namespace {

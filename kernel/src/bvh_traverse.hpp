@@ -89,13 +89,15 @@ struct BvhTraversal {
     return Floats::load_aligned(node + array * kWidth);
   }
 
-  // Rays with tmin >= 0 and a finite inverse of every direction component: no slab distance
-  // can be NaN (that needs 0 * inf) and every entered box starts at tnear >= 0. Nearly every
-  // ray is one (camera and scattered rays start at tmin = 0 or an epsilon), and for them the
-  // box test below needs no NaN-ordered min/max chain and no sign selects.
+  // Rays with tmin >= 0 and direction components of normal magnitude, whose inverses are
+  // finite: no slab distance can be NaN (that needs 0 * inf) and every entered box starts at
+  // tnear >= 0. Nearly every ray is one (camera and scattered rays start at tmin = 0 or an
+  // epsilon), and for them the box test below needs no NaN-ordered min/max chain and no sign
+  // selects.
   static bool ahead(const Ray& ray) {
-    return ray.tmin >= 0.0f && __builtin_isfinite(1.0f / ray.dir.x) &&
-           __builtin_isfinite(1.0f / ray.dir.y) && __builtin_isfinite(1.0f / ray.dir.z);
+    constexpr float kNormal = 0x1p-126f;  // 1 / kNormal = 2^126 is finite
+    return ray.tmin >= 0.0f && __builtin_fabsf(ray.dir.x) >= kNormal &&
+           __builtin_fabsf(ray.dir.y) >= kNormal && __builtin_fabsf(ray.dir.z) >= kNormal;
   }
 
   // The children whose boxes the ray enters before best_t, and where it enters them. kAhead:
@@ -167,42 +169,75 @@ struct BvhTraversal {
     return stack[--top].ref;
   }
 
+  // One ray's way through the tree, a leaf at a time: descend() goes from the current entry
+  // down the nearest entered children to a leaf, or finds none; pop() takes the next entry off
+  // the stack, skipping those behind best_t. The single-ray queries walk one ray to its end;
+  // the stream can walk several in turns.
+  template <bool kAhead>
+  struct Walk {
+    NodeSetup s;
+    std::size_t top;
+    std::uint32_t ref;
+    StackEntry stack[kStackSize];
+
+    void start(const Ray& ray) {
+      s = node_setup(ray);
+      top = 0;
+      ref = 0;  // the root node
+    }
+
+    bool descend(const BvhData& bvh, float best_t, std::size_t& first) {
+      while ((ref & kBvhLeafBit) == 0) {
+        const float* node = bvh.nodes + std::size_t{ref} * kNodeFloats;
+        Floats tnear;
+        const unsigned bits =
+            LaneReduce<A>::bits(enter_children<kAhead>(s, node, Floats(best_t), tnear));
+        if (bits == 0) return false;
+        ref = enter(node, bits, tnear, stack, top);
+      }
+      first = ref & kBvhLeafFirstMask;
+      return true;
+    }
+
+    bool pop(float best_t) {
+      // Entries behind the best hit so far can only hold farther spheres.
+      do {
+        if (top == 0) return false;
+        --top;
+      } while (stack[top].tnear > best_t);
+      ref = stack[top].ref;
+      return true;
+    }
+
+    // The leaf after the one last returned, if any.
+    bool next_leaf(const BvhData& bvh, float best_t, std::size_t& first) {
+      while (pop(best_t))
+        if (descend(bvh, best_t, first)) return true;
+      return false;
+    }
+  };
+
   // Visits the tree: for each leaf the ray may reach before best_t, calls leaf(first sphere),
   // which returns whether to stop. Nodes are entered nearest child first.
   template <class Leaf>
   static void traverse(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf&& leaf) {
     if (bvh.node_count == 0) return;
     if (ahead(ray))
-      traverse_from<true>(bvh, ray, best_t, leaf);
+      walk<true>(bvh, ray, best_t, leaf);
     else
-      traverse_from<false>(bvh, ray, best_t, leaf);
+      walk<false>(bvh, ray, best_t, leaf);
   }
 
   template <bool kAhead, class Leaf>
-  static void traverse_from(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf& leaf) {
-    const NodeSetup s = node_setup(ray);
-    StackEntry stack[kStackSize];
-    std::size_t top = 0;
-    std::uint32_t ref = 0;  // the root node
+  static void walk(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf& leaf) {
+    Walk<kAhead> w;
+    w.start(ray);
+    std::size_t first;
+    bool found = w.descend(bvh, best_t, first);
     for (;;) {
-      if ((ref & kBvhLeafBit) == 0) {
-        const float* node = bvh.nodes + std::size_t{ref} * kNodeFloats;
-        Floats tnear;
-        const unsigned bits =
-            LaneReduce<A>::bits(enter_children<kAhead>(s, node, Floats(best_t), tnear));
-        if (bits != 0) {
-          ref = enter(node, bits, tnear, stack, top);
-          continue;
-        }
-      } else if (leaf(std::size_t{ref & kBvhLeafFirstMask})) {
-        return;
-      }
-      // Entries behind the best hit so far can only hold farther spheres.
-      do {
-        if (top == 0) return;
-        --top;
-      } while (stack[top].tnear > best_t);
-      ref = stack[top].ref;
+      if (found && leaf(first)) return;
+      if (!w.pop(best_t)) return;
+      found = w.descend(bvh, best_t, first);
     }
   }
 
@@ -218,6 +253,92 @@ struct BvhTraversal {
       return false;
     });
     return best;
+  }
+
+  // hits[i] = intersect(bvh, rays[i]). On a tree larger than the caches a scattered ray waits
+  // on memory at nearly every node, and one ray's walk gives the core nothing else to do
+  // meanwhile: there kWalks rays walk in turns, a leaf each, so that their misses overlap.
+  // Elsewhere turns only add work: on a tree that fits in the caches, or for coherent rays,
+  // which find the nodes their neighbours brought in (measured: docs/bvh.md, "The stream").
+  static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+    const bool large = bvh.node_count != 0 && tree_bytes(bvh) > kInTurnsAbove;
+    for (std::size_t begin = 0; begin < n; begin += kStreamChunk) {
+      const std::size_t count = n - begin > kStreamChunk ? kStreamChunk : n - begin;
+      if (large && scattered(rays + begin, count)) {
+        intersect_in_turns(bvh, rays + begin, hits + begin, count);
+      } else {
+        for (std::size_t i = begin; i < begin + count; ++i)
+          hits[i] = intersect(bvh, rays[i]);
+      }
+    }
+  }
+
+  static constexpr std::size_t kWalks = 4;
+  static constexpr std::size_t kInTurnsAbove = std::size_t{4} << 20;
+  static constexpr std::size_t kStreamChunk = 1024;
+
+  // Whether rays (a chunk of a stream) scatter: fewer than half of the neighbours' directions
+  // lie within 60 degrees of each other (cosine over 1/2), judged on one pair in kSampleEvery.
+  // Camera rays and mirror reflections of them nearly all do, diffuse bounces a quarter.
+  static bool scattered(const Ray* rays, std::size_t n) {
+    std::size_t pairs = 0, close = 0;
+    for (std::size_t i = 1; i < n; i += kSampleEvery, ++pairs) {
+      const Vec3 &a = rays[i - 1].dir, &b = rays[i].dir;
+      const float ab = a.x * b.x + a.y * b.y + a.z * b.z;
+      const float aa = a.x * a.x + a.y * a.y + a.z * a.z, bb = b.x * b.x + b.y * b.y + b.z * b.z;
+      close += ab > 0.0f && 4.0f * ab * ab > aa * bb;  // cosine > 1/2, without sqrt or divide
+    }
+    return 2 * close < pairs;
+  }
+  static constexpr std::size_t kSampleEvery = 16;
+
+  static std::size_t tree_bytes(const BvhData& bvh) {
+    return bvh.node_count * kNodeFloats * sizeof(float) +
+           bvh.spheres.padded_count * (4 * sizeof(float) + sizeof(std::uint32_t));
+  }
+
+  static void intersect_in_turns(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+    struct Turn {
+      Walk<true> walk;
+      typename Batch::RaySetup setup;
+      Hit best;
+      std::size_t ray, first;
+    };
+    Turn turns[kWalks];
+    bool live[kWalks];
+    std::size_t next = 0, busy = 0;
+    // Starts t on the next ray that reaches a leaf; the others are answered at once.
+    const auto start = [&](Turn& t) {
+      while (next < n) {
+        const std::size_t i = next++;
+        if (!ahead(rays[i])) {  // rare: one ray alone, through the general box test
+          hits[i] = intersect(bvh, rays[i]);
+          continue;
+        }
+        t.best = {rays[i].tmax, kNoHit};
+        if (Batch::setup(rays[i], t.setup)) {
+          t.walk.start(rays[i]);
+          if (t.walk.descend(bvh, t.best.t, t.first) || t.walk.next_leaf(bvh, t.best.t, t.first)) {
+            t.ray = i;
+            return true;
+          }
+        }
+        hits[i] = t.best;
+      }
+      return false;
+    };
+    for (std::size_t k = 0; k < kWalks; ++k)
+      busy += (live[k] = start(turns[k]));
+    while (busy != 0) {
+      for (std::size_t k = 0; k < kWalks; ++k) {
+        if (!live[k]) continue;
+        Turn& t = turns[k];
+        keep_closest(bvh, t.setup, t.first, t.best);
+        if (t.walk.next_leaf(bvh, t.best.t, t.first)) continue;
+        hits[t.ray] = t.best;
+        if (!(live[k] = start(t))) --busy;
+      }
+    }
   }
 
   // Folds the hits of the batch at sphere index i into best. Leaf order is not id order, so a

@@ -44,8 +44,7 @@ struct KernelEntries {
   }
   static void bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
     if (bvh.count < kScalarBelow) return scalar_bvh_intersect_stream(bvh, rays, hits, n);
-    for (std::size_t i = 0; i < n; ++i)
-      hits[i] = Tree::intersect(bvh, rays[i]);
+    Tree::intersect_stream(bvh, rays, hits, n);
   }
 };
 

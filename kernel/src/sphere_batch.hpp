@@ -14,6 +14,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "fused.hpp"
 #include "lane_reduce.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
@@ -84,19 +85,19 @@ struct SphereBatchKernel {
   // c/q and q/a with q = b' + sign(b') sqrt(a disc), which never subtracts nearly equal values.
   static bool roots(const RaySetup& s, const Spheres& sp, Floats& t, Mask& live) {
     const Floats gx = sp.cx - s.ox, gy = sp.cy - s.oy, gz = sp.cz - s.oz;
-    const Floats b = xsimd::fma(gx, s.dx, xsimd::fma(gy, s.dy, gz * s.dz));
+    using F = Fused<A>;
+    const Floats b = F::fma(gx, s.dx, F::fma(gy, s.dy, gz * s.dz));
     const Floats k = b * s.inv_a;
-    const Floats vx = xsimd::fms(k, s.dx, gx), vy = xsimd::fms(k, s.dy, gy),
-                 vz = xsimd::fms(k, s.dz, gz);
+    const Floats vx = F::fms(k, s.dx, gx), vy = F::fms(k, s.dy, gy), vz = F::fms(k, s.dz, gz);
     const Floats r2 = sp.r * sp.r;
-    const Floats disc = r2 - xsimd::fma(vx, vx, xsimd::fma(vy, vy, vz * vz));
+    const Floats disc = r2 - F::fma(vx, vx, F::fma(vy, vy, vz * vz));
     // NaN and infinite sphere fields make disc NaN (infinite centre: inf - inf in v), which
     // fails this test. Radius <= 0 needs its own, but it is rare, so it is paid only by the
     // batches that pass the cheap one.
     live = disc >= Floats(0.0f);
     if (xsimd::none(live)) return false;
     live = live & (sp.r > Floats(0.0f));
-    const Floats c = xsimd::fma(gx, gx, xsimd::fma(gy, gy, xsimd::fms(gz, gz, r2)));
+    const Floats c = F::fma(gx, gx, F::fma(gy, gy, F::fms(gz, gz, r2)));
     const Floats q = b + xsimd::copysign(xsimd::sqrt(s.a * disc), b);
     const Floats t0 = c / q, t1 = q * s.inv_a;
     // x86 min/max return the second operand if either is NaN: t0 is NaN only for 0/0 (origin on

@@ -257,6 +257,32 @@ TEST(Bvh, BuildIsTheSameWhateverTheThreadCount) {
   }
 }
 
+// The stream may walk scattered rays in turns on a tree larger than the caches (over 4 MB:
+// 200000 spheres take about 5 MB) and coherent ones one by one: either way each ray gets
+// exactly, to the bit, what the single-ray query gives it. Rays of every sort are mixed in,
+// including ones the walk in turns hands back to the single-ray path.
+TEST(Bvh, StreamGivesEachRayExactlyTheSingleRayHit) {
+  std::mt19937 rng(12);
+  const test::LooseSpheres scene = make_scene(Kind::uniform, 200000, rng);
+  for (const Kernel* k : test::runnable_kernels()) {
+    const SphereBVH bvh(scene.view(), k->isa);
+    std::vector<Ray> rays = make_rays(test::scaled(3000), scene.view(), bvh, rng);
+    const Vec3 eye{0.0f, 0.0f, -150.0f};
+    for (int i = 0; i < 1500; ++i)  // a camera's rays: neighbours nearly parallel
+      rays.push_back({eye, {uniform(rng, -0.3f, 0.3f), uniform(rng, -0.3f, 0.3f), 1.0f}});
+    for (int i = 0; i < 1500; ++i)  // scattered, all ahead of their origin
+      rays.push_back({test::random_in_box(rng, 50.0f), test::random_direction(rng)});
+    std::vector<Hit> streamed(rays.size());
+    intersect(bvh, rays, streamed);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const Hit single = intersect(bvh, rays[i]);
+      ASSERT_EQ(streamed[i].id, single.id) << test::name_of(k) << " ray " << i;
+      ASSERT_EQ(std::bit_cast<std::uint32_t>(streamed[i].t), std::bit_cast<std::uint32_t>(single.t))
+          << test::name_of(k) << " ray " << i << ": " << streamed[i].t << " vs " << single.t;
+    }
+  }
+}
+
 TEST(Bvh, KeepsItsOwnCopyOfTheSpheres) {
   std::mt19937 rng(10);
   auto scene = std::make_unique<test::LooseSpheres>(make_scene(Kind::uniform, 500, rng));
