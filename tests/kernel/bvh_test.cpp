@@ -266,8 +266,9 @@ TEST(Bvh, StreamGivesEachRayExactlyTheSingleRayHit) {
   const test::LooseSpheres scene = make_scene(Kind::uniform, 200000, rng);
   for (const Kernel* k : test::runnable_kernels()) {
     const SphereBVH bvh(scene.view(), k->isa);
-    if (k->isa != Isa::scalar)
+    if (k->isa != Isa::scalar) {
       ASSERT_GT(bvh.memory_bytes(), std::size_t{4} << 20) << "too small for the walk in turns";
+    }
     std::vector<Ray> rays = make_rays(test::scaled(3000), scene.view(), bvh, rng);
     const Vec3 eye{0.0f, 0.0f, -150.0f};
     for (int i = 0; i < 1500; ++i)  // a camera's rays, all within a narrow cone
