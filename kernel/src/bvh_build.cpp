@@ -575,6 +575,7 @@ BvhData BvhArrays::data() const {
   }
   d.ids = ids.get();
   d.count = source_count;
+  d.memory_bytes = memory_bytes();
   return d;
 }
 

@@ -209,6 +209,11 @@ struct BvhTraversal {
       return true;
     }
 
+    // The first leaf after start(), if any.
+    bool first_leaf(const BvhData& bvh, float best_t, std::size_t& first) {
+      return descend(bvh, best_t, first) || next_leaf(bvh, best_t, first);
+    }
+
     // The leaf after the one last returned, if any.
     bool next_leaf(const BvhData& bvh, float best_t, std::size_t& first) {
       while (pop(best_t))
@@ -233,12 +238,8 @@ struct BvhTraversal {
     Walk<kAhead> w;
     w.start(ray);
     std::size_t first;
-    bool found = w.descend(bvh, best_t, first);
-    for (;;) {
-      if (found && leaf(first)) return;
-      if (!w.pop(best_t)) return;
-      found = w.descend(bvh, best_t, first);
-    }
+    for (bool more = w.first_leaf(bvh, best_t, first); more; more = w.next_leaf(bvh, best_t, first))
+      if (leaf(first)) return;
   }
 
   // A leaf is at most kWidth spheres from its first: one batch read from there holds all of
@@ -261,7 +262,7 @@ struct BvhTraversal {
   // Elsewhere turns only add work: on a tree that fits in the caches, or for coherent rays,
   // which find the nodes their neighbours brought in (measured: docs/bvh.md, "The stream").
   static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
-    const bool large = bvh.node_count != 0 && tree_bytes(bvh) > kInTurnsAbove;
+    const bool large = bvh.node_count != 0 && bvh.memory_bytes > kInTurnsAbove;
     for (std::size_t begin = 0; begin < n; begin += kStreamChunk) {
       const std::size_t count = n - begin > kStreamChunk ? kStreamChunk : n - begin;
       if (large && scattered(rays + begin, count)) {
@@ -292,11 +293,6 @@ struct BvhTraversal {
   }
   static constexpr std::size_t kSampleEvery = 16;
 
-  static std::size_t tree_bytes(const BvhData& bvh) {
-    return bvh.node_count * kNodeFloats * sizeof(float) +
-           bvh.spheres.padded_count * (4 * sizeof(float) + sizeof(std::uint32_t));
-  }
-
   static void intersect_in_turns(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
     struct Turn {
       Walk<true> walk;
@@ -318,7 +314,7 @@ struct BvhTraversal {
         t.best = {rays[i].tmax, kNoHit};
         if (Batch::setup(rays[i], t.setup)) {
           t.walk.start(rays[i]);
-          if (t.walk.descend(bvh, t.best.t, t.first) || t.walk.next_leaf(bvh, t.best.t, t.first)) {
+          if (t.walk.first_leaf(bvh, t.best.t, t.first)) {
             t.ray = i;
             return true;
           }

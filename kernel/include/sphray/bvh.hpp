@@ -45,6 +45,8 @@ struct BvhData {
   const std::uint32_t* ids = nullptr;
   /// The number of spheres the tree was built over.
   std::size_t count = 0;
+  /// Bytes the nodes, spheres and ids take (SphereBVH::memory_bytes()).
+  std::size_t memory_bytes = 0;
 };
 
 /// A child reference with this bit set is a leaf: bits 0-30 hold its first sphere. Otherwise
