@@ -438,30 +438,41 @@ class Builder {
   std::size_t block_;
 };
 
+// Where a leaf's spheres go: prims [begin, begin + count) to the slots from slot on.
+struct LeafPlace {
+  std::size_t begin, count, slot;
+};
+
 // Writes the built tree's nodes in depth-first pre-order (a parent before its children, which
-// refit relies on). Leaves are ranges of the prims array, which after the build is already in
-// leaf order: a leaf's reference is its first sphere, its count sits in the node's last row.
+// refit relies on), and gives every leaf its own batch of width sphere slots: its reference is
+// its first slot, a multiple of the width, plus its count - 1. An aligned leaf is read as one
+// batch without a cache-line split, and the lanes past its count hold never-hit padding, not
+// the next leaf's spheres (whose extra hits only made the closest-hit fold longer).
 class Flattener {
  public:
   explicit Flattener(BvhArrays& out) : out_(out), w_(out.width) {}
 
+  std::vector<LeafPlace> leaves;
+  std::size_t slots_used = 0;  // a multiple of the width
+
   void write(const Builder::Node& node, std::size_t index) {
-    float* slots = out_.nodes.get() + index * 8 * w_;
+    float* slots = out_.nodes.get() + index * kBvhNodeRows * w_;
     std::size_t next = index + 1;
     for (std::size_t k = 0; k < w_; ++k) {
       const Builder::Node::Child* child = k < node.children.size() ? &node.children[k] : nullptr;
-      std::uint32_t ref = kBvhEmptySlot, count = 0;
+      std::uint32_t ref = kBvhEmptySlot;
       if (child && child->node) {
         ref = static_cast<std::uint32_t>(next);
         write(*child->node, next);
         next += child->node->subtree_nodes;
       } else if (child) {
-        ref = kBvhLeafBit | static_cast<std::uint32_t>(child->cluster.begin);
-        count = static_cast<std::uint32_t>(child->cluster.size());
+        const std::size_t count = child->cluster.size();
+        ref = kBvhLeafBit | static_cast<std::uint32_t>(slots_used + count - 1);
+        leaves.push_back({child->cluster.begin, count, slots_used});
+        slots_used += w_;
       }
       write_box(slots, k, child ? child->cluster.box : Box{});
       slots[6 * w_ + k] = std::bit_cast<float>(ref);
-      slots[7 * w_ + k] = std::bit_cast<float>(count);
     }
   }
 
@@ -491,39 +502,40 @@ BvhArrays::AlignedArray<T> allocate(std::size_t n) {
       static_cast<T*>(::operator new[](n * sizeof(T), std::align_val_t{64})));
 }
 
-// Sphere slots: every sphere, then a batch of never-hit ones for the last leaf's whole-batch
-// read, rounded to 16 floats so that each of the four arrays starts on a cache line.
-std::size_t slot_count(std::size_t spheres, std::size_t width) {
-  return (spheres + width + 15) / 16 * 16;
+// The zeroed nodes of a tree of nodes nodes.
+void allocate_nodes(BvhArrays& out, std::size_t nodes) {
+  if (nodes >= kBvhEmptySlot) throw std::length_error("sphray::SphereBVH: too many spheres");
+  out.nodes = allocate<float>(nodes * kBvhNodeRows * out.width);
+  std::fill_n(out.nodes.get(), nodes * kBvhNodeRows * out.width, 0.0f);
+  out.node_count = nodes;
 }
 
-// The arrays for a tree of nodes nodes over out.source_count spheres: the nodes zeroed, the
-// slots past the spheres never hit (radius 0, id kNoHit); the spheres' slots are written later.
-void allocate(BvhArrays& out, std::size_t nodes) {
-  if (nodes >= kBvhEmptySlot) throw std::length_error("sphray::SphereBVH: too many spheres");
-  out.nodes = allocate<float>(nodes * 8 * out.width);
-  std::fill_n(out.nodes.get(), nodes * 8 * out.width, 0.0f);
-  out.node_count = nodes;
-  const std::size_t n = out.source_count;
-  out.slots = slot_count(n, out.width);
+// The sphere slots, rounded to 16 floats so that each of the four arrays starts on a cache
+// line, all never hit (radius 0, id kNoHit) until the leaves' spheres are written.
+void allocate_slots(BvhArrays& out, std::size_t slots) {
+  out.slots = (slots + 15) / 16 * 16;
+  if (out.slots >= kBvhLeafBit) throw std::length_error("sphray::SphereBVH: too many spheres");
   out.spheres = allocate<float>(4 * out.slots);
   out.ids = allocate<std::uint32_t>(out.slots);
-  for (std::size_t k = 0; k < 4; ++k)
-    std::fill(out.spheres.get() + k * out.slots + n, out.spheres.get() + (k + 1) * out.slots, 0.0f);
-  std::fill(out.ids.get() + n, out.ids.get() + out.slots, kNoHit);
+  std::fill_n(out.spheres.get(), 4 * out.slots, 0.0f);
+  std::fill_n(out.ids.get(), out.slots, kNoHit);
 }
 
-// The spheres and ids of the built tree, from the prims in leaf order.
-void write_spheres(BvhArrays& out, const Prims& prims) {
+// The spheres and ids of the built tree: each leaf's prims to its slots.
+void write_spheres(BvhArrays& out, const Prims& prims, const std::vector<LeafPlace>& leaves) {
   float* x = out.spheres.get();
   float *y = x + out.slots, *z = y + out.slots, *r = z + out.slots;
-  parallel_for(prims.size, kBlock, [&](std::size_t i) {
-    const Prim& p = prims[i];
-    x[i] = p.sphere[0];
-    y[i] = p.sphere[1];
-    z[i] = p.sphere[2];
-    r[i] = p.sphere[3];
-    out.ids[i] = p.id();
+  parallel_for(leaves.size(), kBlock / 16, [&](std::size_t k) {
+    const LeafPlace& leaf = leaves[k];
+    for (std::size_t j = 0; j < leaf.count; ++j) {
+      const Prim& p = prims[leaf.begin + j];
+      const std::size_t i = leaf.slot + j;
+      x[i] = p.sphere[0];
+      y[i] = p.sphere[1];
+      z[i] = p.sphere[2];
+      r[i] = p.sphere[3];
+      out.ids[i] = p.id();
+    }
   });
 }
 
@@ -531,8 +543,9 @@ void write_spheres(BvhArrays& out, const Prims& prims) {
 void copy_spheres(BvhArrays& out, SphereView v) {
   float* x = out.spheres.get();
   float *y = x + out.slots, *z = y + out.slots, *r = z + out.slots;
-  parallel_for(out.source_count, kBlock, [&](std::size_t slot) {
+  parallel_for(out.slots, kBlock, [&](std::size_t slot) {
     const std::uint32_t id = out.ids[slot];
+    if (id == kNoHit) return;
     x[slot] = v.cx[id];
     y[slot] = v.cy[id];
     z[slot] = v.cz[id];
@@ -556,9 +569,11 @@ BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min) 
   } else {
     root = std::move(*builder.build(all, 0));
   }
-  allocate(out, root.subtree_nodes);
-  Flattener(out).write(root, 0);
-  write_spheres(out, prims);
+  allocate_nodes(out, root.subtree_nodes);
+  Flattener flat(out);
+  flat.write(root, 0);
+  allocate_slots(out, flat.slots_used);
+  write_spheres(out, prims, flat.leaves);
   return out;
 }
 
@@ -580,7 +595,7 @@ BvhData BvhArrays::data() const {
 }
 
 std::size_t BvhArrays::memory_bytes() const {
-  return node_count * 8 * width * sizeof(float) +
+  return node_count * kBvhNodeRows * width * sizeof(float) +
          slots * (4 * sizeof(float) + sizeof(std::uint32_t));
 }
 
@@ -607,19 +622,19 @@ void refit_bvh(BvhArrays& tree, SphereView v) {
   const std::size_t w = tree.width;
   // Children come after their parent, so a reverse sweep sees every child's boxes first.
   for (std::size_t n = tree.node_count; n-- > 0;) {
-    float* slots_of = tree.nodes.get() + n * 8 * w;
+    float* slots_of = tree.nodes.get() + n * kBvhNodeRows * w;
     for (std::size_t k = 0; k < w; ++k) {
       const std::uint32_t ref = std::bit_cast<std::uint32_t>(slots_of[6 * w + k]);
       if (ref == kBvhEmptySlot) continue;
       Box box;
       if (ref & kBvhLeafBit) {
-        const std::size_t first = ref & kBvhLeafFirstMask;
-        const std::size_t count = std::bit_cast<std::uint32_t>(slots_of[7 * w + k]);
+        const std::size_t first = ref & kBvhLeafFirstMask & ~(w - 1);
+        const std::size_t count = (ref & (w - 1)) + 1;
         for (std::size_t i = first; i < first + count; ++i)
           box.grow(
               sphere_box(d.spheres.cx[i], d.spheres.cy[i], d.spheres.cz[i], d.spheres.radius[i]));
       } else {
-        const float* child = tree.nodes.get() + std::size_t{ref} * 8 * w;
+        const float* child = tree.nodes.get() + std::size_t{ref} * kBvhNodeRows * w;
         for (std::size_t j = 0; j < w; ++j)
           for (int axis = 0; axis < 3; ++axis) {
             box.lo[axis] = std::min(box.lo[axis], child[(2 * axis) * w + j]);

@@ -42,23 +42,20 @@ void visit(const BvhData& bvh, const Ray& ray, const float& tmax, Leaf&& leaf) {
   // far outside the node array.
   if (bvh.node_count == 0 || !valid_ray(ray)) return;
   const std::size_t w = bvh.width;
-  struct Entry {
-    std::uint32_t ref, count;
-  };
-  Entry stack[kBvhMaxDepth * (kScalarBvhWidth - 1) + 1];
+  std::uint32_t stack[kBvhMaxDepth * (kScalarBvhWidth - 1) + 1];
   std::size_t top = 0;
-  stack[top++] = {0, 0};
+  stack[top++] = 0;
   while (top > 0) {
-    const Entry e = stack[--top];
-    if (e.ref & kBvhLeafBit) {
-      if (leaf(std::size_t{e.ref & kBvhLeafFirstMask}, std::size_t{e.count})) return;
+    const std::uint32_t ref = stack[--top];
+    if (ref & kBvhLeafBit) {
+      const std::size_t first = ref & kBvhLeafFirstMask & ~(w - 1);
+      if (leaf(first, (ref & (w - 1)) + 1)) return;
       continue;
     }
-    const float* node = bvh.nodes + std::size_t{e.ref} * 8 * w;
+    const float* node = bvh.nodes + std::size_t{ref} * kBvhNodeRows * w;
     for (std::size_t k = 0; k < w; ++k)
       if (enters(node, w, k, ray, tmax))
-        stack[top++] = {std::bit_cast<std::uint32_t>(node[6 * w + k]),
-                        std::bit_cast<std::uint32_t>(node[7 * w + k])};
+        stack[top++] = std::bit_cast<std::uint32_t>(node[6 * w + k]);
   }
 }
 
@@ -66,14 +63,12 @@ SphereView one_sphere(const SphereView& v, std::size_t i) {
   return {v.cx + i, v.cy + i, v.cz + i, v.radius + i, 1, 0};
 }
 
-// Trees over fewer spheres than this hold one leaf: it is read directly, as brute force reads a
-// view, rather than by testing the root's mostly empty child boxes one by one.
-constexpr std::size_t kSingleLeafBelow = 8;
-
-// Visits the one leaf of a small tree, or every leaf the ray enters.
+// Visits the one leaf of a tree over at most width spheres, or every leaf the ray enters. The
+// one leaf is read directly, as brute force reads a view, rather than after a test of the
+// root's mostly empty child boxes one by one.
 template <class Leaf>
 void visit_leaves(const BvhData& bvh, const Ray& ray, const float& tmax, Leaf&& leaf) {
-  if (bvh.count < kSingleLeafBelow)
+  if (bvh.count <= bvh.width)
     leaf(0, bvh.count);
   else
     visit(bvh, ray, tmax, leaf);

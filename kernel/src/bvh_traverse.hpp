@@ -25,7 +25,7 @@ struct BvhTraversal {
   using Floats = typename Batch::Floats;
   using Mask = typename Batch::Mask;
   static constexpr std::size_t kWidth = Batch::kWidth;
-  static constexpr std::size_t kNodeFloats = 8 * kWidth;
+  static constexpr std::size_t kNodeFloats = kBvhNodeRows * kWidth;
   // A node visit leaves at most kWidth - 1 entries above its ancestors' (one child is visited
   // next), and writes at most one slot past them: kBvhMaxDepth levels fit in this.
   static constexpr std::size_t kStackSize = kBvhMaxDepth * (kWidth - 1) + 1;
@@ -157,15 +157,18 @@ struct BvhTraversal {
       top += rest != 0;
       return child_ref(node, nearer);
     }
-    const std::size_t first = top;
+    // Three or more: each child goes straight to its slot in the sorted run, its rank being
+    // how many entered children precede it (farther, or as near and in a lower lane). No
+    // comparison branches, only the loop over the children.
     for (unsigned left = bits; left != 0; left &= left - 1) {
       const auto lane = static_cast<unsigned>(__builtin_ctz(left));
-      const StackEntry e{child_ref(node, lane), t[lane]};
-      std::size_t i = top++;
-      for (; i > first && stack[i - 1].tnear < e.tnear; --i)
-        stack[i] = stack[i - 1];
-      stack[i] = e;
+      const Floats tl(t[lane]);
+      const unsigned farther = LaneReduce<A>::bits(tnear > tl) & bits;
+      const unsigned tied = LaneReduce<A>::bits(tnear == tl) & bits & ((1u << lane) - 1u);
+      stack[top + static_cast<unsigned>(__builtin_popcount(farther)) +
+            static_cast<unsigned>(__builtin_popcount(tied))] = {child_ref(node, lane), t[lane]};
     }
+    top += static_cast<unsigned>(__builtin_popcount(bits));
     return stack[--top].ref;
   }
 
@@ -195,7 +198,7 @@ struct BvhTraversal {
         if (bits == 0) return false;
         ref = enter(node, bits, tnear, stack, top);
       }
-      first = ref & kBvhLeafFirstMask;
+      first = ref & kBvhLeafFirstMask & ~std::uint32_t{kWidth - 1};
       return true;
     }
 
@@ -242,9 +245,7 @@ struct BvhTraversal {
       if (leaf(first)) return;
   }
 
-  // A leaf is at most kWidth spheres from its first: one batch read from there holds all of
-  // them, and its other lanes the next leaf's spheres (or never-hit padding), whose hits are
-  // real and may only bring the closest one in earlier.
+  // A leaf is one aligned batch of slots: its spheres, then never-hit padding.
   static Hit intersect(const BvhData& bvh, const Ray& ray) {
     typename Batch::RaySetup s;
     Hit best{ray.tmax, kNoHit};

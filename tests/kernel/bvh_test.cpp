@@ -100,7 +100,7 @@ std::vector<Ray> make_rays(std::size_t count, const SphereView& v, const SphereB
         const float tiny[] = {0.0f, -0.0f, 0x1p-140f, -0x1p-140f};
         *dir[axis] = tiny[rng() % 4];
         if (d.node_count != 0) {
-          const float* node = d.nodes + (rng() % d.node_count) * 8 * d.width;
+          const float* node = d.nodes + (rng() % d.node_count) * detail::kBvhNodeRows * d.width;
           const float plane = node[(2 * axis + rng() % 2) * d.width + rng() % d.width];
           if (std::isfinite(plane)) *o[axis] = plane;
         }
@@ -230,7 +230,8 @@ bool same_tree(const SphereBVH& a, const SphereBVH& b) {
   const detail::BvhData &x = a.data(), &y = b.data();
   if (x.node_count != y.node_count || x.width != y.width || x.spheres.count != y.spheres.count)
     return false;
-  return std::memcmp(x.nodes, y.nodes, x.node_count * 8 * x.width * sizeof(float)) == 0 &&
+  return std::memcmp(x.nodes, y.nodes,
+                     x.node_count * detail::kBvhNodeRows * x.width * sizeof(float)) == 0 &&
          std::memcmp(x.ids, y.ids, x.spheres.count * sizeof(std::uint32_t)) == 0;
 }
 

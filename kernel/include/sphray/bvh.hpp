@@ -31,16 +31,14 @@ namespace detail {
 struct BvhData {
   /// Children per node and spheres per leaf batch.
   std::size_t width = 0;
-  /// Node k starts at nodes + k * 8 * width: the children's boxes as six arrays of width floats
-  /// (lo x, hi x, lo y, hi y, lo z, hi z), then width child references (uint32 bits), then
-  /// width leaf sphere counts (uint32 bits; 0 for a node or an empty slot), so that every node
-  /// is 64-byte aligned. Node 0 is the root.
+  /// Node k starts at nodes + k * kBvhNodeRows * width: the children's boxes as six arrays of
+  /// width floats (lo x, hi x, lo y, hi y, lo z, hi z), then width child references (uint32
+  /// bits), so that every row is aligned to a batch. Node 0 is the root.
   const float* nodes = nullptr;
   std::size_t node_count = 0;
-  /// The spheres in leaf order, each leaf a range of at most width of them, then width
-  /// never-hit spheres, so that every leaf can be read as one whole batch (the spheres past a
-  /// leaf's end belong to the next leaf: real spheres, whose hits are real). ids holds each
-  /// one's id in the view the tree was built from (kNoHit for padding).
+  /// The spheres in leaf order, each leaf an aligned batch of width slots: its spheres (at
+  /// most width), then never-hit padding (radius 0). ids holds each slot's id in the view the
+  /// tree was built from (kNoHit for padding).
   SphereView spheres{nullptr, nullptr, nullptr, nullptr, 0, 0};
   const std::uint32_t* ids = nullptr;
   /// The number of spheres the tree was built over.
@@ -49,8 +47,11 @@ struct BvhData {
   std::size_t memory_bytes = 0;
 };
 
-/// A child reference with this bit set is a leaf: bits 0-30 hold its first sphere. Otherwise
-/// it is a node's index.
+/// Floats per child in a node: six box planes and the reference.
+inline constexpr std::size_t kBvhNodeRows = 7;
+/// A child reference with this bit set is a leaf: bits 0-30 hold its first slot, a multiple
+/// of the width, plus its sphere count minus one (which is below the width). Otherwise it is a
+/// node's index.
 inline constexpr std::uint32_t kBvhLeafBit = 0x80000000u;
 inline constexpr std::uint32_t kBvhLeafFirstMask = kBvhLeafBit - 1;
 /// The deepest tree the builder makes (it switches to median splits to stay within it), which
