@@ -247,33 +247,69 @@ struct BvhTraversal {
 
   // A leaf is one aligned batch of slots: its spheres, then never-hit padding.
   static Hit intersect(const BvhData& bvh, const Ray& ray) {
+    std::size_t leaves = 0;
+    return intersect<false>(bvh, ray, leaves);
+  }
+
+  // The same hit, with the leaf test's form picked by kBranchFree (see keep_closest), adding
+  // the number of leaves tested to leaves.
+  template <bool kBranchFree>
+  static Hit intersect(const BvhData& bvh, const Ray& ray, std::size_t& leaves) {
     typename Batch::RaySetup s;
     Hit best{ray.tmax, kNoHit};
     if (!Batch::setup(ray, s)) return best;
     traverse(bvh, ray, best.t, [&](std::size_t first) {
-      keep_closest(bvh, s, first, best);
+      ++leaves;
+      keep_closest<kBranchFree>(bvh, s, first, best);
       return false;
     });
     return best;
   }
 
-  // hits[i] = intersect(bvh, rays[i]). On a tree larger than the caches a scattered ray waits
-  // on memory at nearly every node, and one ray's walk gives the core nothing else to do
-  // meanwhile: there kWalks rays walk in turns, a leaf each, so that their misses overlap.
-  // Elsewhere turns only add work: on a tree that fits in the caches, or for coherent rays,
-  // which find the nodes their neighbours brought in (measured: docs/bvh.md, "The stream").
+  // hits[i] = intersect(bvh, rays[i]), chunk by chunk, each chunk the way its rays go fastest
+  // (measured: docs/bvh.md, "The stream"):
+  // - Coherent rays one at a time, as the single-ray query.
+  // - Scattered rays that test many leaves each (a dense scene) with the branch-free leaf test:
+  //   the first kProbeRays rays of the chunk, traced the usual way, count the leaves.
+  // - On a tree larger than the caches a scattered ray also waits on memory at nearly every
+  //   node, and one ray's walk gives the core nothing else to do meanwhile: there kWalks rays
+  //   walk in turns, a leaf each, so that their misses overlap. Elsewhere turns only add work:
+  //   on a tree that fits in the caches, or for coherent rays, which find the nodes their
+  //   neighbours brought in.
   static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
     const bool large = bvh.node_count != 0 && bvh.memory_bytes > kInTurnsAbove;
     for (std::size_t begin = 0; begin < n; begin += kStreamChunk) {
-      const std::size_t count = n - begin > kStreamChunk ? kStreamChunk : n - begin;
-      if (large && scattered(rays + begin, count)) {
-        intersect_in_turns(bvh, rays + begin, hits + begin, count);
-      } else {
-        for (std::size_t i = begin; i < begin + count; ++i)
-          hits[i] = intersect(bvh, rays[i]);
+      const std::size_t end = n - begin > kStreamChunk ? begin + kStreamChunk : n;
+      std::size_t i = begin, leaves = 0;
+      if (scattered(rays + begin, end - begin)) {
+        const std::size_t probe = end - begin > kProbeRays ? begin + kProbeRays : end;
+        for (; i < probe; ++i)
+          hits[i] = intersect<false>(bvh, rays[i], leaves);
+        const bool dense = leaves * kDenseLeaves.den > (probe - begin) * kDenseLeaves.num;
+        if (large) {
+          if (dense)
+            intersect_in_turns<true>(bvh, rays + i, hits + i, end - i);
+          else
+            intersect_in_turns<false>(bvh, rays + i, hits + i, end - i);
+          i = end;
+        } else if (dense) {
+          for (; i < end; ++i)
+            hits[i] = intersect<true>(bvh, rays[i], leaves);
+        }
       }
+      for (; i < end; ++i)
+        hits[i] = intersect<false>(bvh, rays[i], leaves);
     }
   }
+
+  // A scattered chunk is dense above 3/2 leaves per ray: random:4096 and larger random scenes
+  // test 2.6 to 3 per incoherent ray and gain 8% from the branch-free leaf test, rtiow-final
+  // tests 1.03 and loses 15% (one leaf, whose outcome the branch predictor learns).
+  struct Ratio {
+    std::size_t num, den;
+  };
+  static constexpr Ratio kDenseLeaves{3, 2};
+  static constexpr std::size_t kProbeRays = 64;
 
   static constexpr std::size_t kWalks = 4;
   static constexpr std::size_t kInTurnsAbove = std::size_t{4} << 20;
@@ -294,6 +330,7 @@ struct BvhTraversal {
   }
   static constexpr std::size_t kSampleEvery = 16;
 
+  template <bool kBranchFree>
   static void intersect_in_turns(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
     struct Turn {
       Walk<true> walk;
@@ -330,7 +367,7 @@ struct BvhTraversal {
       for (std::size_t k = 0; k < kWalks; ++k) {
         if (!live[k]) continue;
         Turn& t = turns[k];
-        keep_closest(bvh, t.setup, t.first, t.best);
+        keep_closest<kBranchFree>(bvh, t.setup, t.first, t.best);
         if (t.walk.next_leaf(bvh, t.best.t, t.first)) continue;
         hits[t.ray] = t.best;
         if (!(live[k] = start(t))) --busy;
@@ -338,24 +375,56 @@ struct BvhTraversal {
     }
   }
 
-  // Folds the hits of the batch at sphere index i into best. Leaf order is not id order, so a
-  // tie on t goes to the lower id explicitly.
+  // Folds the hits of the leaf batch at slot i into best. Leaf order is not id order, so a tie
+  // on t goes to the lower id explicitly. Two forms, the same result:
+  // - kBranchFree = false: the sphere kernel's early exit when no lane's discriminant is
+  //   non-negative, then a loop over the lanes that hit.
+  // - kBranchFree = true: no branch on the lanes but "any hit at all": the roots of every lane,
+  //   then the smallest t by a horizontal min and its id.
+  // The branches win for coherent rays, whose neighbours take the same ones, and in sparse
+  // scenes, where a ray tests about one leaf and the predictor learns its outcome. Scattered
+  // rays in a dense scene test several leaves, about half of them with a lane whose
+  // discriminant is non-negative: there the branches are coin tosses, each mispredicted one
+  // costing more than the arithmetic it skips. The stream picks per chunk (measured:
+  // docs/bvh.md, "The stream").
+  template <bool kBranchFree>
   static void keep_closest(const BvhData& bvh, const typename Batch::RaySetup& s, std::size_t i,
                            Hit& best) {
     Floats t;
     Mask live;
-    if (!Batch::roots(s, Batch::load(bvh.spheres, i), t, live)) return;
-    unsigned bits = LaneReduce<A>::bits(live & (t > s.tmin) & (t <= Floats(best.t)));
-    if (bits == 0) return;
-    alignas(64) float lanes[kWidth];
-    t.store_aligned(lanes);
-    for (; bits != 0; bits &= bits - 1) {
-      const auto lane = static_cast<unsigned>(__builtin_ctz(bits));
-      const std::uint32_t id = bvh.ids[i + lane];
-      const float tl = lanes[lane];
-      // The open interval: t == tmax is no hit, so a tie counts only against an earlier hit.
-      if (tl < best.t || (tl == best.t && best.found() && id < best.id)) best = {tl, id};
+    if (!Batch::template roots<!kBranchFree>(s, Batch::load(bvh.spheres, i), t, live)) return;
+    const Mask hit = live & (t > s.tmin) & (t <= Floats(best.t));
+    if constexpr (kBranchFree) {
+      if (xsimd::none(hit)) return;
+      const Floats m =
+          LaneReduce<A>::template all_min<float>(xsimd::select(hit, t, Floats(__builtin_inff())));
+      fold(best, m.get(0), lowest_id(bvh, i, LaneReduce<A>::bits(hit & (t == m))));
+    } else {
+      unsigned bits = LaneReduce<A>::bits(hit);
+      if (bits == 0) return;
+      alignas(64) float lanes[kWidth];
+      t.store_aligned(lanes);
+      for (; bits != 0; bits &= bits - 1) {
+        const auto lane = static_cast<unsigned>(__builtin_ctz(bits));
+        fold(best, lanes[lane], bvh.ids[i + lane]);
+      }
     }
+  }
+
+  // The open interval: t == tmax is no hit, so a tie counts only against an earlier hit.
+  static void fold(Hit& best, float t, std::uint32_t id) {
+    if (t < best.t || (t == best.t && best.found() && id < best.id)) best = {t, id};
+  }
+
+  // The lowest id among the lanes of the leaf at slot i whose bits are set (at least one).
+  // Several lanes share the smallest t only for equal spheres: the loop rarely runs.
+  static std::uint32_t lowest_id(const BvhData& bvh, std::size_t i, unsigned lanes) {
+    std::uint32_t id = bvh.ids[i + static_cast<unsigned>(__builtin_ctz(lanes))];
+    for (lanes &= lanes - 1; lanes != 0; lanes &= lanes - 1) {
+      const std::uint32_t other = bvh.ids[i + static_cast<unsigned>(__builtin_ctz(lanes))];
+      id = other < id ? other : id;
+    }
+    return id;
   }
 
   static bool occluded(const BvhData& bvh, const Ray& ray) {

@@ -28,15 +28,53 @@ struct LaneReduce {
     }
   };
 
-  // Every lane gets the minimum over all lanes: log2(width) swizzle-and-min steps, no branch.
+  // Every lane gets the minimum over all lanes: log2(width) swap-and-min steps, no branch.
   template <class T, std::size_t kStride = kWidth / 2>
   static Batch<T> all_min(Batch<T> x) {
-    if constexpr (kStride == 0) {
+    if constexpr (kStride == 0)
       return x;
-    } else {
-      constexpr auto swap = xsimd::make_batch_constant<Batch<std::uint32_t>, XorLane<kStride>>();
-      return all_min<T, kStride / 2>(xsimd::min(x, xsimd::swizzle(x, swap)));
+    else
+      return all_min<T, kStride / 2>(xsimd::min(x, swapped<kStride>(x)));
+  }
+
+  // x with lane i moved to lane i ^ kStride. On x86 a swap within 128 bits is an in-lane
+  // shuffle (1 cycle) rather than the full permute xsimd's swizzle emits (3 cycles): the BVH's
+  // leaf fold waits on all_min.
+  template <std::size_t kStride, class T>
+  static Batch<T> swapped(const Batch<T>& x) {
+#if defined(__x86_64__) || defined(__i386__)
+    if constexpr (sizeof(T) == 4) {
+      Batch<float> f, r;
+      if constexpr (std::is_same_v<T, float>)  // xsimd 8.1 casts only between different types
+        f = x;
+      else
+        f = xsimd::bitwise_cast<Batch<float>>(x);
+      if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+        const __m512 v = f;
+        if constexpr (kStride == 8)
+          r = _mm512_shuffle_f32x4(v, v, 0x4e);  // 128-bit blocks 2 3 0 1
+        else if constexpr (kStride == 4)
+          r = _mm512_shuffle_f32x4(v, v, 0xb1);  // blocks 1 0 3 2
+        else
+          r = _mm512_permute_ps(v, kStride == 2 ? 0x4e : 0xb1);
+      } else if constexpr (std::is_base_of_v<xsimd::avx, A>) {
+        const __m256 v = f;
+        if constexpr (kStride == 4)
+          r = _mm256_permute2f128_ps(v, v, 0x01);
+        else
+          r = _mm256_permute_ps(v, kStride == 2 ? 0x4e : 0xb1);
+      } else {
+        const __m128 v = f;
+        r = _mm_shuffle_ps(v, v, kStride == 2 ? 0x4e : 0xb1);
+      }
+      if constexpr (std::is_same_v<T, float>)
+        return r;
+      else
+        return xsimd::bitwise_cast<Batch<T>>(r);
     }
+#endif
+    constexpr auto swap = xsimd::make_batch_constant<Batch<std::uint32_t>, XorLane<kStride>>();
+    return xsimd::swizzle(x, swap);
   }
 
   // One bit per lane of a mask, lane 0 in bit 0: the instruction set's own mask move where it

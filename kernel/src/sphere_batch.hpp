@@ -76,13 +76,16 @@ struct SphereBatchKernel {
 
   // Per lane: the ray parameter t of the near root if it lies above tmin, else of the far root,
   // and whether the lane can hit at all. Returns false when no lane can: the caller skips the
-  // batch (one branch per batch, not per sphere).
+  // batch (one branch per batch, not per sphere). kEarlyExit = false computes the roots
+  // whatever the lanes and always returns true, for callers to whom that branch is a coin toss
+  // (the BVH on scattered rays).
   //
   // Precision (Haines, Guenther, Akenine-Moeller, "Precision Improvements for Ray/Sphere
   // Intersection", Ray Tracing Gems ch. 7): with g = centre - origin (= -f), b' = g.d and
   // c = g.g - r^2, the discriminant is taken in its perpendicular form r^2 - |b'/a d - g|^2,
   // which does not lose the small difference b'^2 - a c to cancellation, and the roots as
   // c/q and q/a with q = b' + sign(b') sqrt(a disc), which never subtracts nearly equal values.
+  template <bool kEarlyExit = true>
   static bool roots(const RaySetup& s, const Spheres& sp, Floats& t, Mask& live) {
     const Floats gx = sp.cx - s.ox, gy = sp.cy - s.oy, gz = sp.cz - s.oz;
     using F = Fused<A>;
@@ -95,7 +98,7 @@ struct SphereBatchKernel {
     // fails this test. Radius <= 0 needs its own, but it is rare, so it is paid only by the
     // batches that pass the cheap one.
     live = disc >= Floats(0.0f);
-    if (xsimd::none(live)) return false;
+    if (kEarlyExit && xsimd::none(live)) return false;
     live = live & (sp.r > Floats(0.0f));
     const Floats c = F::fma(gx, gx, F::fma(gy, gy, F::fms(gz, gz, r2)));
     const Floats q = b + xsimd::copysign(xsimd::sqrt(s.a * disc), b);
