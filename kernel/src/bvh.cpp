@@ -39,6 +39,7 @@ SphereBVH::~SphereBVH() = default;
 
 void SphereBVH::refit(SphereView spheres) {
   detail::refit_bvh(storage_->arrays, spheres);
+  data_ = storage_->arrays.data();  // the leaf overlap changed
 }
 
 std::size_t SphereBVH::size() const {

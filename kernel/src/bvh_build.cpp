@@ -67,7 +67,20 @@ struct alignas(16) Box {
     const float a = x * y + y * z + z * x;
     return std::isnan(a) ? kInf : a;
   }
+  // In double, so that boxes up to 10^100 wide keep a finite volume. Infinite for unbounded
+  // boxes.
+  double volume() const {
+    if (empty()) return 0.0;
+    const double v = (double{hi[0]} - lo[0]) * (double{hi[1]} - lo[1]) * (double{hi[2]} - lo[2]);
+    return std::isnan(v) ? HUGE_VAL : v;
+  }
 };
+
+// BvhArrays::leaf_overlap from the leaves' summed volume and the root box's.
+float leaf_overlap(double leaf_volume, double root_volume) {
+  const double overlap = leaf_volume / root_volume;
+  return std::isfinite(overlap) ? static_cast<float>(overlap) : 0.0f;
+}
 
 // Half the side of a sphere's box on one axis: the radius, widened by 2^-20 of the
 // coordinate's magnitude. That is more than the rounding of c -+ e, and enough to hold a grazing
@@ -454,6 +467,7 @@ class Flattener {
 
   std::vector<LeafPlace> leaves;
   std::size_t slots_used = 0;  // a multiple of the width
+  double leaf_volume = 0.0;    // of the leaves' boxes
 
   void write(const Builder::Node& node, std::size_t index) {
     float* slots = out_.nodes.get() + index * kBvhNodeRows * w_;
@@ -470,6 +484,7 @@ class Flattener {
         ref = kBvhLeafBit | static_cast<std::uint32_t>(slots_used + count - 1);
         leaves.push_back({child->cluster.begin, count, slots_used});
         slots_used += w_;
+        leaf_volume += child->cluster.box.volume();
       }
       write_box(slots, k, child ? child->cluster.box : Box{});
       slots[6 * w_ + k] = std::bit_cast<float>(ref);
@@ -574,6 +589,7 @@ BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min) 
   flat.write(root, 0);
   allocate_slots(out, flat.slots_used);
   write_spheres(out, prims, flat.leaves);
+  out.leaf_overlap = leaf_overlap(flat.leaf_volume, all.box.volume());
   return out;
 }
 
@@ -591,6 +607,7 @@ BvhData BvhArrays::data() const {
   d.ids = ids.get();
   d.count = source_count;
   d.memory_bytes = memory_bytes();
+  d.leaf_overlap = leaf_overlap;
   return d;
 }
 
@@ -620,6 +637,8 @@ void refit_bvh(BvhArrays& tree, SphereView v) {
   copy_spheres(tree, v);
   const BvhData d = tree.data();
   const std::size_t w = tree.width;
+  double leaf_volume = 0.0;
+  Box root;
   // Children come after their parent, so a reverse sweep sees every child's boxes first.
   for (std::size_t n = tree.node_count; n-- > 0;) {
     float* slots_of = tree.nodes.get() + n * kBvhNodeRows * w;
@@ -633,6 +652,7 @@ void refit_bvh(BvhArrays& tree, SphereView v) {
         for (std::size_t i = first; i < first + count; ++i)
           box.grow(
               sphere_box(d.spheres.cx[i], d.spheres.cy[i], d.spheres.cz[i], d.spheres.radius[i]));
+        leaf_volume += box.volume();
       } else {
         const float* child = tree.nodes.get() + std::size_t{ref} * kBvhNodeRows * w;
         for (std::size_t j = 0; j < w; ++j)
@@ -645,8 +665,10 @@ void refit_bvh(BvhArrays& tree, SphereView v) {
         slots_of[(2 * axis) * w + k] = box.lo[axis];
         slots_of[(2 * axis + 1) * w + k] = box.hi[axis];
       }
+      if (n == 0) root.grow(box);
     }
   }
+  tree.leaf_overlap = leaf_overlap(leaf_volume, root.volume());
 }
 
 }  // namespace sphray::detail

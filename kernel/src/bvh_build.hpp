@@ -30,6 +30,9 @@ struct BvhArrays {
   AlignedArray<std::uint32_t> ids;  // per slot; kNoHit for the padding
   std::size_t slots = 0;
   std::size_t source_count = 0;  // the view's count
+  /// The sum of the leaf boxes' volumes over the root box's: how many leaf boxes a point of
+  /// the root box lies in, on average. 0 when that is unknown (no leaves, or unbounded boxes).
+  float leaf_overlap = 0.0f;
 
   BvhData data() const;
   std::size_t memory_bytes() const;

@@ -245,71 +245,52 @@ struct BvhTraversal {
       if (leaf(first)) return;
   }
 
-  // A leaf is one aligned batch of slots: its spheres, then never-hit padding.
+  // A leaf is one aligned batch of slots: its spheres, then never-hit padding. The leaf test's
+  // form (see keep_closest) is the tree's: branch-free where leaf boxes overlap.
   static Hit intersect(const BvhData& bvh, const Ray& ray) {
-    std::size_t leaves = 0;
-    return intersect<false>(bvh, ray, leaves);
+    return branch_free(bvh) ? intersect<true>(bvh, ray) : intersect<false>(bvh, ray);
   }
 
-  // The same hit, with the leaf test's form picked by kBranchFree (see keep_closest), adding
-  // the number of leaves tested to leaves.
   template <bool kBranchFree>
-  static Hit intersect(const BvhData& bvh, const Ray& ray, std::size_t& leaves) {
+  static Hit intersect(const BvhData& bvh, const Ray& ray) {
     typename Batch::RaySetup s;
     Hit best{ray.tmax, kNoHit};
     if (!Batch::setup(ray, s)) return best;
     traverse(bvh, ray, best.t, [&](std::size_t first) {
-      ++leaves;
       keep_closest<kBranchFree>(bvh, s, first, best);
       return false;
     });
     return best;
   }
 
-  // hits[i] = intersect(bvh, rays[i]), chunk by chunk, each chunk the way its rays go fastest
-  // (measured: docs/bvh.md, "The stream"):
-  // - Coherent rays one at a time, as the single-ray query.
-  // - Scattered rays that test many leaves each (a dense scene) with the branch-free leaf test:
-  //   the first kProbeRays rays of the chunk, traced the usual way, count the leaves.
-  // - On a tree larger than the caches a scattered ray also waits on memory at nearly every
-  //   node, and one ray's walk gives the core nothing else to do meanwhile: there kWalks rays
-  //   walk in turns, a leaf each, so that their misses overlap. Elsewhere turns only add work:
-  //   on a tree that fits in the caches, or for coherent rays, which find the nodes their
-  //   neighbours brought in.
+  // Whether the leaves take the branch-free test: where a point of the tree's box lies in
+  // kBvhBranchFreeOverlap leaf boxes or more on average, a scattered ray tests several leaves, and
+  // the leaf test's branches are coin tosses (see keep_closest). random:512 has 1.49,
+  // random:4096 1.80, random:65536 2.09; rtiow-final 1.00 (docs/bvh.md, "Leaves").
+  static bool branch_free(const BvhData& bvh) {
+    return bvh.leaf_overlap >= kBvhBranchFreeOverlap;
+  }
+
+  // hits[i] = intersect(bvh, rays[i]). On a tree larger than the caches a scattered ray waits
+  // on memory at nearly every node, and one ray's walk gives the core nothing else to do
+  // meanwhile: there kWalks rays walk in turns, a leaf each, so that their misses overlap.
+  // Elsewhere turns only add work: on a tree that fits in the caches, or for coherent rays,
+  // which find the nodes their neighbours brought in (measured: docs/bvh.md, "The stream").
   static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
     const bool large = bvh.node_count != 0 && bvh.memory_bytes > kInTurnsAbove;
     for (std::size_t begin = 0; begin < n; begin += kStreamChunk) {
-      const std::size_t end = n - begin > kStreamChunk ? begin + kStreamChunk : n;
-      std::size_t i = begin, leaves = 0;
-      if (scattered(rays + begin, end - begin)) {
-        const std::size_t probe = end - begin > kProbeRays ? begin + kProbeRays : end;
-        for (; i < probe; ++i)
-          hits[i] = intersect<false>(bvh, rays[i], leaves);
-        const bool dense = leaves * kDenseLeaves.den > (probe - begin) * kDenseLeaves.num;
-        if (large) {
-          if (dense)
-            intersect_in_turns<true>(bvh, rays + i, hits + i, end - i);
-          else
-            intersect_in_turns<false>(bvh, rays + i, hits + i, end - i);
-          i = end;
-        } else if (dense) {
-          for (; i < end; ++i)
-            hits[i] = intersect<true>(bvh, rays[i], leaves);
-        }
+      const std::size_t count = n - begin > kStreamChunk ? kStreamChunk : n - begin;
+      if (large && scattered(rays + begin, count)) {
+        if (branch_free(bvh))
+          intersect_in_turns<true>(bvh, rays + begin, hits + begin, count);
+        else
+          intersect_in_turns<false>(bvh, rays + begin, hits + begin, count);
+      } else {
+        for (std::size_t i = begin; i < begin + count; ++i)
+          hits[i] = intersect(bvh, rays[i]);
       }
-      for (; i < end; ++i)
-        hits[i] = intersect<false>(bvh, rays[i], leaves);
     }
   }
-
-  // A scattered chunk is dense above 3/2 leaves per ray: random:4096 and larger random scenes
-  // test 2.6 to 3 per incoherent ray and gain 8% from the branch-free leaf test, rtiow-final
-  // tests 1.03 and loses 15% (one leaf, whose outcome the branch predictor learns).
-  struct Ratio {
-    std::size_t num, den;
-  };
-  static constexpr Ratio kDenseLeaves{3, 2};
-  static constexpr std::size_t kProbeRays = 64;
 
   static constexpr std::size_t kWalks = 4;
   static constexpr std::size_t kInTurnsAbove = std::size_t{4} << 20;
@@ -381,12 +362,11 @@ struct BvhTraversal {
   //   non-negative, then a loop over the lanes that hit.
   // - kBranchFree = true: no branch on the lanes but "any hit at all": the roots of every lane,
   //   then the smallest t by a horizontal min and its id.
-  // The branches win for coherent rays, whose neighbours take the same ones, and in sparse
-  // scenes, where a ray tests about one leaf and the predictor learns its outcome. Scattered
-  // rays in a dense scene test several leaves, about half of them with a lane whose
-  // discriminant is non-negative: there the branches are coin tosses, each mispredicted one
-  // costing more than the arithmetic it skips. The stream picks per chunk (measured:
-  // docs/bvh.md, "The stream").
+  // The branches win in sparse scenes, where a ray tests about one leaf and the predictor
+  // learns its outcome. Scattered rays in a dense scene test several leaves, about half of
+  // them with a lane whose discriminant is non-negative: there the branches are coin tosses,
+  // each mispredicted one costing more than the arithmetic it skips, and coherent rays lose
+  // nothing without them. The tree picks (branch_free).
   template <bool kBranchFree>
   static void keep_closest(const BvhData& bvh, const typename Batch::RaySetup& s, std::size_t i,
                            Hit& best) {

@@ -164,6 +164,7 @@ TEST_P(BvhAgreement, MatchesBruteForceOnEveryKindAndSize) {
   if (k == nullptr) GTEST_SKIP() << "this machine cannot run " << isa_name(GetParam());
   std::mt19937 rng(5);
   Tally tally;
+  std::size_t branch_free_trees = 0, branching_trees = 0;  // the two leaf tests
   const std::size_t largest = k->isa == Isa::scalar ? 10000 : 100000;
   for (Kind kind : kKinds) {
     for (std::size_t n :
@@ -175,10 +176,19 @@ TEST_P(BvhAgreement, MatchesBruteForceOnEveryKindAndSize) {
       ASSERT_EQ(bvh.isa(), k->isa);
       const auto rays = make_rays(ray_count(*k, n), scene.view(), bvh, rng);
       compare(*k, scene.view(), bvh, rays, tally, label(*k, kind, n));
+      if (n > 100)
+        ++(bvh.data().leaf_overlap >= detail::kBvhBranchFreeOverlap ? branch_free_trees
+                                                                    : branching_trees);
     }
   }
-  std::cout << "[ compared ] " << tally.rays << " rays on " << isa_name(k->isa) << "\n";
+  std::cout << "[ compared ] " << tally.rays << " rays on " << isa_name(k->isa) << ", "
+            << branch_free_trees << " trees over 100 spheres with the branch-free leaf test, "
+            << branching_trees << " with the branching one\n";
   EXPECT_GE(tally.rays, test::scaled(1000000) * 99 / 100);
+  if (k->isa != Isa::scalar) {  // the scalar traversal has one leaf test
+    EXPECT_GT(branch_free_trees, 0u);
+    EXPECT_GT(branching_trees, 0u);
+  }
 }
 
 std::string isa_param_name(const ::testing::TestParamInfo<Isa>& info) {
@@ -262,47 +272,37 @@ TEST(Bvh, BuildIsTheSameWhateverTheThreadCount) {
 // 200000 spheres take about 5 MB) and coherent ones one by one: either way each ray gets
 // exactly, to the bit, what the single-ray query gives it. Rays of every sort are mixed in,
 // including ones the walk in turns hands back to the single-ray path.
-// The stream picks a way per chunk of rays: one ray at a time, the branch-free leaf test for
-// scattered rays in a dense scene, the walk in turns on a tree larger than 4 MB (with either
-// leaf test). Each must give every ray exactly its single-ray hit.
-void expect_stream_matches_single_rays(const test::LooseSpheres& scene, std::size_t min_bytes,
-                                       std::mt19937& rng) {
-  for (const Kernel* k : test::runnable_kernels()) {
-    const SphereBVH bvh(scene.view(), k->isa);
-    if (k->isa != Isa::scalar) {
-      ASSERT_GE(bvh.memory_bytes(), min_bytes) << "too small for the walk in turns";
-    }
-    std::vector<Ray> rays = make_rays(test::scaled(3000), scene.view(), bvh, rng);
-    const Vec3 eye{0.0f, 0.0f, -150.0f};
-    for (int i = 0; i < 1500; ++i)  // a camera's rays, all within a narrow cone
-      rays.push_back({eye, {uniform(rng, -0.3f, 0.3f), uniform(rng, -0.3f, 0.3f), 1.0f}});
-    for (int i = 0; i < 2500; ++i)  // scattered, all ahead of their origin
-      rays.push_back({test::random_in_box(rng, 50.0f), test::random_direction(rng)});
-    std::vector<Hit> streamed(rays.size());
-    intersect(bvh, rays, streamed);
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-      const Hit single = intersect(bvh, rays[i]);
-      ASSERT_EQ(streamed[i].id, single.id) << test::name_of(k) << " ray " << i;
-      ASSERT_EQ(std::bit_cast<std::uint32_t>(streamed[i].t), std::bit_cast<std::uint32_t>(single.t))
-          << test::name_of(k) << " ray " << i << ": " << streamed[i].t << " vs " << single.t;
-    }
-  }
-}
-
+// The stream walks scattered rays in turns on a tree larger than 4 MB, with the tree's leaf
+// test, and the other rays one at a time: each way must give every ray exactly its single-ray
+// hit. Two scenes, one for each leaf test (see kBvhBranchFreeOverlap).
 TEST(Bvh, StreamGivesEachRayExactlyTheSingleRayHit) {
   std::mt19937 rng(12);
-  expect_stream_matches_single_rays(make_scene(Kind::uniform, 200000, rng), std::size_t{4} << 20,
-                                    rng);
-}
-
-TEST(Bvh, StreamGivesEachRayExactlyTheSingleRayHitInADenseScene) {
-  // Overlapping spheres, as in the benchmark's random:4096: a scattered ray tests two to three
-  // leaves, so its chunks take the branch-free leaf test.
-  std::mt19937 rng(13);
-  test::LooseSpheres dense;
-  for (int i = 0; i < 4096; ++i)
-    dense.add(test::random_in_box(rng, 50.0f), uniform(rng, 1.5f, 4.7f));
-  expect_stream_matches_single_rays(dense, 0, rng);
+  for (Kind kind : {Kind::uniform, Kind::clustered}) {
+    const test::LooseSpheres scene = make_scene(kind, 200000, rng);
+    for (const Kernel* k : test::runnable_kernels()) {
+      const SphereBVH bvh(scene.view(), k->isa);
+      if (k->isa != Isa::scalar) {
+        ASSERT_GT(bvh.memory_bytes(), std::size_t{4} << 20) << "too small for the walk in turns";
+        ASSERT_EQ(bvh.data().leaf_overlap >= detail::kBvhBranchFreeOverlap, kind == Kind::uniform)
+            << "overlap " << bvh.data().leaf_overlap;
+      }
+      std::vector<Ray> rays = make_rays(test::scaled(3000), scene.view(), bvh, rng);
+      const Vec3 eye{0.0f, 0.0f, -150.0f};
+      for (int i = 0; i < 1500; ++i)  // a camera's rays, all within a narrow cone
+        rays.push_back({eye, {uniform(rng, -0.3f, 0.3f), uniform(rng, -0.3f, 0.3f), 1.0f}});
+      for (int i = 0; i < 2500; ++i)  // scattered, all ahead of their origin
+        rays.push_back({test::random_in_box(rng, 50.0f), test::random_direction(rng)});
+      std::vector<Hit> streamed(rays.size());
+      intersect(bvh, rays, streamed);
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Hit single = intersect(bvh, rays[i]);
+        ASSERT_EQ(streamed[i].id, single.id) << test::name_of(k) << " ray " << i;
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(streamed[i].t),
+                  std::bit_cast<std::uint32_t>(single.t))
+            << test::name_of(k) << " ray " << i << ": " << streamed[i].t << " vs " << single.t;
+      }
+    }
+  }
 }
 
 TEST(Bvh, KeepsItsOwnCopyOfTheSpheres) {

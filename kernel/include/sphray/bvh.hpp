@@ -45,8 +45,13 @@ struct BvhData {
   std::size_t count = 0;
   /// Bytes the nodes, spheres and ids take (SphereBVH::memory_bytes()).
   std::size_t memory_bytes = 0;
+  /// How many leaf boxes a point of the tree's box lies in, on average (0: unknown). The
+  /// traversal picks its leaf test by it.
+  float leaf_overlap = 0.0f;
 };
 
+/// Trees whose leaf_overlap reaches this take the branch-free leaf test (bvh_traverse.hpp).
+inline constexpr float kBvhBranchFreeOverlap = 1.5f;
 /// Floats per child in a node: six box planes and the reference.
 inline constexpr std::size_t kBvhNodeRows = 7;
 /// A child reference with this bit set is a leaf: bits 0-30 hold its first slot, a multiple
