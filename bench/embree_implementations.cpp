@@ -170,8 +170,10 @@ std::vector<Implementation> embree_implementations() {
   std::vector<Implementation> impls;
   impls.push_back(embree("embree-intersect1", intersect1, 1));
   if (all_threads() > 1) impls.push_back(embree("embree-intersect1", intersect1, all_threads()));
-  if (rtcGetDeviceProperty(device(), RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED))
+  if (rtcGetDeviceProperty(device(), RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED)) {
     impls.push_back(embree("embree-intersect8", intersect8, 1));
+    if (all_threads() > 1) impls.push_back(embree("embree-intersect8", intersect8, all_threads()));
+  }
   return impls;
 }
 

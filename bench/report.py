@@ -37,6 +37,14 @@ SMALL_SCENES = (1, 64)
 TARGET_OVER_EMBREE = 3.0
 TARGET_THREAD_SCALING = 1.8
 TARGET_BOUND_FACTOR = 1.5
+# Issue 5: the BVH against Embree's sphere BVH.
+BVH_SCENES = ("rtiow-final", "random:4096", "random:65536", "random:1048576")
+BVH_OVER_INTERSECT1 = 1.2
+BVH_OVER_INTERSECT8 = 1.0
+BVH_BUILD_FACTOR = 0.8
+BVH_REFIT_SPEEDUP = 5.0
+BVH_BYTES_PER_SPHERE = 40.0
+BVH_BUILD_SCENE = "random:1048576"
 SIMD_FLAGS = ("sse4_2", "avx", "avx2", "fma", "avx512f", "avx512dq", "avx512bw", "avx512vl",
               "avx512_fp16", "amx_tile", "neon", "asimd")
 
@@ -188,6 +196,8 @@ def columns(res):
             cols.append((f"Embree rtcIntersect1, {n} threads", "embree-intersect1", n))
     if res.has("embree-intersect8"):
         cols.append(("Embree rtcIntersect8", "embree-intersect8", 1))
+        if n > 1:
+            cols.append((f"Embree rtcIntersect8, {n} threads", "embree-intersect8", n))
     return [c for c in cols if res.has(c[1], c[2])]
 
 
@@ -450,7 +460,123 @@ def targets_section(res):
             med = statistics.median(v[0] for v in vals)
             rows.append([f"stream on {n} threads >= {TARGET_THREAD_SCALING}x one thread",
                          f"{worst[0]:.2f}x ({worst[1]}, {worst[2]}); median {med:.2f}x", verdict(worst[0] >= TARGET_THREAD_SCALING)])
+    rows += bvh_target_rows(res)
     return "\n".join(lines + [table(header, rows)])
+
+
+def bvh_pairs(res):
+    """(label, ours, Embree's, threads) of every BVH comparison issue 5 names."""
+    n = res.all_threads
+    pairs = [("tree per ray / rtcIntersect1", "bvh", "embree-intersect1", 1),
+             ("tree stream / rtcIntersect1", "bvh-stream", "embree-intersect1", 1),
+             ("tree per ray / rtcIntersect8", "bvh", "embree-intersect8", 1),
+             ("tree stream / rtcIntersect8", "bvh-stream", "embree-intersect8", 1)]
+    if n > 1:
+        pairs += [(f"tree stream / rtcIntersect1, {n} threads", "bvh-stream", "embree-intersect1", n),
+                  (f"tree stream / rtcIntersect8, {n} threads", "bvh-stream", "embree-intersect8", n)]
+    return [p for p in pairs if res.has(p[1], p[3]) and res.has(p[2], p[3])]
+
+
+def bvh_ratio(res, scene, kind, ours, theirs, threads):
+    return ratio(res.rate(scene, kind, ours, threads), res.rate(scene, kind, theirs, threads))
+
+
+def build_row(res, scene, impl, threads):
+    for r in res.builds:
+        if r.scene == scene and r.impl == impl and r.threads == threads and not r.error:
+            return r
+    return None
+
+
+def build_ms(r):
+    return r.get("real_time") if r is not None and r.get("time_unit") == "ms" else None
+
+
+def bvh_target_rows(res):
+    rows = []
+    scenes = [s for s in BVH_SCENES if s in res.scenes]
+    for label, ours, theirs, threads in bvh_pairs(res):
+        want = BVH_OVER_INTERSECT1 if theirs == "embree-intersect1" else BVH_OVER_INTERSECT8
+        vals = [(bvh_ratio(res, s, kd, ours, theirs, threads), s, kd) for s in scenes for kd in KINDS]
+        vals = [v for v in vals if v[0] is not None]
+        if vals:
+            worst = min(vals)
+            rows.append([f"{label} >= {want:g}x ({', '.join(scenes)})",
+                         f"{worst[0]:.2f}x ({worst[1]}, {worst[2]})", verdict(worst[0] >= want)])
+    n = res.all_threads
+    ours, theirs = build_ms(build_row(res, BVH_BUILD_SCENE, "bvh", n)), build_ms(build_row(res, BVH_BUILD_SCENE, "embree", n))
+    refit = build_ms(build_row(res, BVH_BUILD_SCENE, "bvh-refit", n))
+    if ours and theirs:
+        rows.append([f"tree build <= {BVH_BUILD_FACTOR:g}x rtcCommitScene ({BVH_BUILD_SCENE}, {n} threads)",
+                     f"{ours:.3g} vs {theirs:.3g} ms = {ours / theirs:.2f}x", verdict(ours <= BVH_BUILD_FACTOR * theirs)])
+    if ours and refit:
+        rows.append([f"refit >= {BVH_REFIT_SPEEDUP:g}x faster than the tree build ({BVH_BUILD_SCENE}, {n} threads)",
+                     f"{refit:.3g} vs {ours:.3g} ms = {ours / refit:.1f}x", verdict(ours >= BVH_REFIT_SPEEDUP * refit)])
+    mem = [(build_row(res, s, "bvh", 1).get("bytes_per_sphere"), s) for s in scenes if build_row(res, s, "bvh", 1)]
+    if mem:
+        worst = max(mem)
+        rows.append([f"tree and spheres <= {BVH_BYTES_PER_SPHERE:g} bytes per sphere ({', '.join(scenes)})",
+                     f"{worst[0]:.3g} ({worst[1]})", verdict(worst[0] <= BVH_BYTES_PER_SPHERE)])
+    return rows
+
+
+def crossover(res, kind):
+    """The random scenes between which the tree, per ray, overtakes dispatched brute force."""
+    behind = None
+    for s in sorted(res.random_scenes(), key=lambda s: res.spheres.get(s, 0)):
+        tree, brute = res.rate(s, kind, "bvh"), res.rate(s, kind, "dispatch")
+        if tree is None or brute is None:
+            continue
+        if tree > brute:
+            return behind, (s, brute, tree)
+        behind = (s, brute, tree)
+    return behind, None
+
+
+def bvh_section(res):
+    pairs = bvh_pairs(res)
+    scenes = [s for s in BVH_SCENES if s in res.scenes]
+    if not pairs or not scenes:
+        return ""
+    out = ["## The BVH against Embree", "",
+           "Issue 5's comparison: `sphray::SphereBVH` against Embree's sphere BVH on the same spheres",
+           "and rays, our rays per second over Embree's (rates in the tables above), coherent /",
+           "incoherent. Embree's packets (`rtcIntersect8`) on several threads are split across them",
+           "the same way as our stream.", ""]
+    header = ["scene (spheres)"] + [p[0] for p in pairs]
+    rows = []
+    for s in scenes:
+        row = [scene_label(res, s)]
+        for _, ours, theirs, threads in pairs:
+            row.append(" / ".join(fmt_ratio(bvh_ratio(res, s, kd, ours, theirs, threads)) for kd in KINDS))
+        rows.append(row)
+    out.append(table(header, rows))
+    out += ["", "Build, refit and memory (the build table below has every scene):", ""]
+    header = ["scene (spheres)", "threads", "tree build", "refit", "rtcCommitScene", "build / Embree's",
+              "tree bytes per sphere", "Embree's"]
+    rows = []
+    for s in scenes:
+        for threads in sorted({r.threads for r in res.builds if r.scene == s}):
+            ours, refit, theirs = (build_row(res, s, impl, threads) for impl in ("bvh", "bvh-refit", "embree"))
+            fmt_ms = lambda r: f"{build_ms(r):.3g} ms" if build_ms(r) else "–"  # noqa: E731
+            rows.append([scene_label(res, s), threads, fmt_ms(ours), fmt_ms(refit), fmt_ms(theirs),
+                         fmt_ratio(ratio(build_ms(ours), build_ms(theirs))),
+                         fmt_num(ours.get("bytes_per_sphere")) if ours else "–",
+                         fmt_num(theirs.get("bytes_per_sphere")) if theirs else "–"])
+    out.append(table(header, rows))
+    out += ["", "Crossover: the smallest random scenes where the tree, one ray at a time, overtakes the",
+            "dispatched brute force (one thread; `sphray render` switches at 128 spheres):", ""]
+    for kind in KINDS:
+        behind, ahead = crossover(res, kind)
+        if ahead is None:
+            out.append(f"- {kind}: brute force stays ahead on every random scene of this run")
+            continue
+        text = f"- {kind}: between {res.spheres.get(behind[0], '?')} and {res.spheres.get(ahead[0])} spheres" if behind else f"- {kind}: at {res.spheres.get(ahead[0])} spheres or fewer"
+        if behind:
+            text += f" (brute force {fmt_rate(behind[1])} vs tree {fmt_rate(behind[2])} rays/s at {res.spheres.get(behind[0])},"
+            text += f" {fmt_rate(ahead[1])} vs {fmt_rate(ahead[2])} at {res.spheres.get(ahead[0])})"
+        out.append(text)
+    return "\n".join(out)
 
 
 def failures_section(res):
@@ -582,6 +708,7 @@ def main(argv):
         ratio_tables(res),
         "![Speed-up over scalar per instruction set](images/perf-speedup.png)",
         stream_table(res),
+        bvh_section(res),
         build_table(res),
         cycles_section(res),
         failures_section(res),
