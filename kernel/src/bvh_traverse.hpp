@@ -230,6 +230,12 @@ struct BvhTraversal {
   template <class Leaf>
   static void traverse(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf&& leaf) {
     if (bvh.node_count == 0) return;
+    // A tree over at most kWidth spheres is one leaf, at slot 0: it is read directly, as brute
+    // force reads a batch, without a test of the root's mostly empty child boxes.
+    if (bvh.count <= kWidth) {
+      leaf(0);
+      return;
+    }
     if (ahead(ray))
       walk<true>(bvh, ray, best_t, leaf);
     else

@@ -269,12 +269,10 @@ TEST(Bvh, BuildIsTheSameWhateverTheThreadCount) {
 }
 
 // The stream may walk scattered rays in turns on a tree larger than the caches (over 4 MB:
-// 200000 spheres take about 5 MB) and coherent ones one by one: either way each ray gets
-// exactly, to the bit, what the single-ray query gives it. Rays of every sort are mixed in,
-// including ones the walk in turns hands back to the single-ray path.
-// The stream walks scattered rays in turns on a tree larger than 4 MB, with the tree's leaf
-// test, and the other rays one at a time: each way must give every ray exactly its single-ray
-// hit. Two scenes, one for each leaf test (see kBvhBranchFreeOverlap).
+// 200000 spheres take about 5 MB), with the tree's leaf test, and coherent ones one by one:
+// either way each ray gets exactly, to the bit, what the single-ray query gives it. Rays of
+// every sort are mixed in, including ones the walk in turns hands back to the single-ray path.
+// Two scenes, one for each leaf test (see kBvhBranchFreeOverlap).
 TEST(Bvh, StreamGivesEachRayExactlyTheSingleRayHit) {
   std::mt19937 rng(12);
   for (Kind kind : {Kind::uniform, Kind::clustered}) {
