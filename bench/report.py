@@ -10,8 +10,6 @@ beside this script and puts them in the page next to the measured cycles per bat
 
 import argparse
 import json
-import math
-import re
 import statistics
 import sys
 from dataclasses import dataclass, field
@@ -366,7 +364,7 @@ def cycles_section(res):
     out = ["## Cycles per batch", ""]
     if k is None:
         return "\n".join(out + ["(no clock measurement in this run)"])
-    out += [f"The `clock/core` benchmark times a chain of dependent multiplies (3 cycles each): the core ran",
+    out += ["The `clock/core` benchmark times a chain of dependent multiplies (3 cycles each): the core ran",
             f"{k:.3f} cycles per time stamp counter tick (about {k * res.tsc_mhz / 1000:.2f} GHz with the TSC at {res.tsc_mhz / 1000:.2f} GHz)",
             "(the fastest of many short samples, so descheduled samples do not count). Cycles per batch below =",
             "TSC ticks per sphere test x batch width x that factor, single thread, per-ray query, on the",
@@ -520,17 +518,25 @@ def bvh_target_rows(res):
     return rows
 
 
-def crossover(res, kind):
-    """The random scenes between which the tree, per ray, overtakes dispatched brute force."""
-    behind = None
+def crossover_rows(res, kind):
+    rows = []
     for s in sorted(res.random_scenes(), key=lambda s: res.spheres.get(s, 0)):
         tree, brute = res.rate(s, kind, "bvh"), res.rate(s, kind, "dispatch")
-        if tree is None or brute is None:
-            continue
-        if tree > brute:
-            return behind, (s, brute, tree)
-        behind = (s, brute, tree)
-    return behind, None
+        if tree is not None and brute is not None:
+            rows.append((s, brute, tree))
+    return rows
+
+
+def crossover(res, kind):
+    """(the last random scene where dispatched brute force beats the tree per ray, the first
+    after it), each as (scene, brute rate, tree rate): from the second on the tree stays ahead.
+    The tree can also win on tiny scenes below a range where brute force leads."""
+    rows = crossover_rows(res, kind)
+    behind = [i for i, r in enumerate(rows) if r[2] <= r[1]]
+    if not behind:
+        return None, rows[0] if rows else None
+    last = behind[-1]
+    return rows[last], rows[last + 1] if last + 1 < len(rows) else None
 
 
 def bvh_section(res):
@@ -564,18 +570,24 @@ def bvh_section(res):
                          fmt_num(ours.get("bytes_per_sphere")) if ours else "–",
                          fmt_num(theirs.get("bytes_per_sphere")) if theirs else "–"])
     out.append(table(header, rows))
-    out += ["", "Crossover: the smallest random scenes where the tree, one ray at a time, overtakes the",
-            "dispatched brute force (one thread; `sphray render` switches at 128 spheres):", ""]
+    out += ["", "Crossover: the sphere count above which the tree, one ray at a time, stays ahead of the",
+            "dispatched brute force on the random scenes (one thread; `sphray render` switches at 128",
+            "spheres):", ""]
     for kind in KINDS:
         behind, ahead = crossover(res, kind)
+        n_of = lambda r: res.spheres.get(r[0], "?")  # noqa: E731
         if ahead is None:
-            out.append(f"- {kind}: brute force stays ahead on every random scene of this run")
-            continue
-        text = f"- {kind}: between {res.spheres.get(behind[0], '?')} and {res.spheres.get(ahead[0])} spheres" if behind else f"- {kind}: at {res.spheres.get(ahead[0])} spheres or fewer"
-        if behind:
-            text += f" (brute force {fmt_rate(behind[1])} vs tree {fmt_rate(behind[2])} rays/s at {res.spheres.get(behind[0])},"
-            text += f" {fmt_rate(ahead[1])} vs {fmt_rate(ahead[2])} at {res.spheres.get(ahead[0])})"
-        out.append(text)
+            out.append(f"- {kind}: brute force is still ahead on the largest random scene of this run")
+        elif behind is None:
+            out.append(f"- {kind}: the tree is ahead on every random scene of this run")
+        else:
+            text = (f"- {kind}: between {n_of(behind)} and {n_of(ahead)} spheres (brute force "
+                    f"{fmt_rate(behind[1])} vs tree {fmt_rate(behind[2])} rays/s at {n_of(behind)}, "
+                    f"{fmt_rate(ahead[1])} vs {fmt_rate(ahead[2])} at {n_of(ahead)})")
+            tiny = [r for r in crossover_rows(res, kind) if r[2] > r[1] and res.spheres.get(r[0], 0) < n_of(behind)]
+            if tiny:
+                text += f"; the tree also leads on {', '.join(r[0] for r in tiny)}, a single leaf read directly"
+            out.append(text)
     return "\n".join(out)
 
 
