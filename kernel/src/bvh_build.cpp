@@ -76,10 +76,12 @@ struct alignas(16) Box {
   }
 };
 
-// BvhArrays::leaf_overlap from the leaves' summed volume and the root box's.
+// BvhArrays::leaf_overlap from the leaves' summed volume and the root box's. Every leaf box
+// lies in the root box, so the ratio is at most the leaf count; the clamp only keeps the cast
+// to float defined whatever the input.
 float leaf_overlap(double leaf_volume, double root_volume) {
   const double overlap = leaf_volume / root_volume;
-  return std::isfinite(overlap) ? static_cast<float>(overlap) : 0.0f;
+  return std::isfinite(overlap) ? static_cast<float>(std::min(overlap, 1e30)) : 0.0f;
 }
 
 // Half the side of a sphere's box on one axis: the radius, widened by 2^-20 of the
