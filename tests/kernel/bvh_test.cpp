@@ -303,6 +303,32 @@ TEST(Bvh, StreamGivesEachRayExactlyTheSingleRayHit) {
   }
 }
 
+// The measure that picks the leaf test: the leaf boxes' summed volume over the root box's.
+TEST(Bvh, LeafOverlapIsTheLeafBoxesVolumeOverTheRootBox) {
+  for (const Kernel* k : test::runnable_kernels()) {
+    const std::size_t w = k->bvh_width;
+    // One leaf: its box is the root box.
+    test::LooseSpheres few;
+    for (std::size_t i = 0; i < w; ++i)
+      few.add({float(i), 0.0f, 0.0f}, 0.5f);
+    EXPECT_FLOAT_EQ(SphereBVH(few.view(), k->isa).data().leaf_overlap, 1.0f) << test::name_of(k);
+    // 4w equal spheres: four full leaves, each box the root box.
+    test::LooseSpheres same;
+    for (std::size_t i = 0; i < 4 * w; ++i)
+      same.add({1.0f, 2.0f, 3.0f}, 2.0f);
+    SphereBVH bvh(same.view(), k->isa);
+    EXPECT_FLOAT_EQ(bvh.data().leaf_overlap, 4.0f) << test::name_of(k);
+    // Refit to spheres far apart on a line: the leaves' boxes become thin slices of the root
+    // box, and the overlap drops below the branch-free threshold.
+    test::LooseSpheres apart;
+    for (std::size_t i = 0; i < 4 * w; ++i)
+      apart.add({100.0f * float(i), 0.0f, 0.0f}, 1.0f);
+    bvh.refit(apart.view());
+    EXPECT_LT(bvh.data().leaf_overlap, detail::kBvhBranchFreeOverlap) << test::name_of(k);
+    EXPECT_GT(bvh.data().leaf_overlap, 0.0f) << test::name_of(k);
+  }
+}
+
 TEST(Bvh, KeepsItsOwnCopyOfTheSpheres) {
   std::mt19937 rng(10);
   auto scene = std::make_unique<test::LooseSpheres>(make_scene(Kind::uniform, 500, rng));
