@@ -76,14 +76,6 @@ struct alignas(16) Box {
   }
 };
 
-// BvhArrays::leaf_overlap from the leaves' summed volume and the root box's. Every leaf box
-// lies in the root box, so the ratio is at most the leaf count; the clamp only keeps the cast
-// to float defined whatever the input.
-float leaf_overlap(double leaf_volume, double root_volume) {
-  const double overlap = leaf_volume / root_volume;
-  return std::isfinite(overlap) ? static_cast<float>(std::min(overlap, 1e30)) : 0.0f;
-}
-
 // Half the side of a sphere's box on one axis: the radius, widened by 2^-20 of the
 // coordinate's magnitude. That is more than the rounding of c -+ e, and enough to hold a grazing
 // hit that the kernel's own rounding puts just outside the exact sphere.
@@ -469,7 +461,6 @@ class Flattener {
 
   std::vector<LeafPlace> leaves;
   std::size_t slots_used = 0;  // a multiple of the width
-  double leaf_volume = 0.0;    // of the leaves' boxes
 
   void write(const Builder::Node& node, std::size_t index) {
     float* slots = out_.nodes.get() + index * kBvhNodeRows * w_;
@@ -486,7 +477,6 @@ class Flattener {
         ref = kBvhLeafBit | static_cast<std::uint32_t>(slots_used + count - 1);
         leaves.push_back({child->cluster.begin, count, slots_used});
         slots_used += w_;
-        leaf_volume += child->cluster.box.volume();
       }
       write_box(slots, k, child ? child->cluster.box : Box{});
       slots[6 * w_ + k] = std::bit_cast<float>(ref);
@@ -570,6 +560,32 @@ void copy_spheres(BvhArrays& out, SphereView v) {
   });
 }
 
+// The leaf boxes' summed volume over the root box's (BvhArrays::leaf_overlap), from the
+// written nodes: one pass over them, after a build or a refit. Every leaf box lies in the root
+// box, so the ratio is at most the leaf count; the clamp only keeps the cast to float defined
+// whatever the input.
+float measure_leaf_overlap(const BvhArrays& tree) {
+  const std::size_t w = tree.width;
+  double leaf_volume = 0.0;
+  Box root;
+  for (std::size_t n = 0; n < tree.node_count; ++n) {
+    const float* slots = tree.nodes.get() + n * kBvhNodeRows * w;
+    for (std::size_t k = 0; k < w; ++k) {
+      const std::uint32_t ref = std::bit_cast<std::uint32_t>(slots[6 * w + k]);
+      if (ref == kBvhEmptySlot || (n != 0 && (ref & kBvhLeafBit) == 0)) continue;
+      Box box;
+      for (int axis = 0; axis < 3; ++axis) {
+        box.lo[axis] = slots[(2 * axis) * w + k];
+        box.hi[axis] = slots[(2 * axis + 1) * w + k];
+      }
+      if (n == 0) root.grow(box);
+      if (ref & kBvhLeafBit) leaf_volume += box.volume();
+    }
+  }
+  const double overlap = leaf_volume / root.volume();
+  return std::isfinite(overlap) ? static_cast<float>(std::min(overlap, 1e30)) : 0.0f;
+}
+
 BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min) {
   BvhArrays out;
   out.width = width;
@@ -591,7 +607,7 @@ BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min) 
   flat.write(root, 0);
   allocate_slots(out, flat.slots_used);
   write_spheres(out, prims, flat.leaves);
-  out.leaf_overlap = leaf_overlap(flat.leaf_volume, all.box.volume());
+  out.leaf_overlap = measure_leaf_overlap(out);
   return out;
 }
 
@@ -639,8 +655,6 @@ void refit_bvh(BvhArrays& tree, SphereView v) {
   copy_spheres(tree, v);
   const BvhData d = tree.data();
   const std::size_t w = tree.width;
-  double leaf_volume = 0.0;
-  Box root;
   // Children come after their parent, so a reverse sweep sees every child's boxes first.
   for (std::size_t n = tree.node_count; n-- > 0;) {
     float* slots_of = tree.nodes.get() + n * kBvhNodeRows * w;
@@ -654,7 +668,6 @@ void refit_bvh(BvhArrays& tree, SphereView v) {
         for (std::size_t i = first; i < first + count; ++i)
           box.grow(
               sphere_box(d.spheres.cx[i], d.spheres.cy[i], d.spheres.cz[i], d.spheres.radius[i]));
-        leaf_volume += box.volume();
       } else {
         const float* child = tree.nodes.get() + std::size_t{ref} * kBvhNodeRows * w;
         for (std::size_t j = 0; j < w; ++j)
@@ -667,10 +680,9 @@ void refit_bvh(BvhArrays& tree, SphereView v) {
         slots_of[(2 * axis) * w + k] = box.lo[axis];
         slots_of[(2 * axis + 1) * w + k] = box.hi[axis];
       }
-      if (n == 0) root.grow(box);
     }
   }
-  tree.leaf_overlap = leaf_overlap(leaf_volume, root.volume());
+  tree.leaf_overlap = measure_leaf_overlap(tree);
 }
 
 }  // namespace sphray::detail

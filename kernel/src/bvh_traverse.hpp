@@ -282,18 +282,24 @@ struct BvhTraversal {
   // meanwhile: there kWalks rays walk in turns, a leaf each, so that their misses overlap.
   // Elsewhere turns only add work: on a tree that fits in the caches, or for coherent rays,
   // which find the nodes their neighbours brought in (measured: docs/bvh.md, "The stream").
+  // The tree's leaf test is picked once per call.
+  static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+    if (branch_free(bvh))
+      intersect_stream<true>(bvh, rays, hits, n);
+    else
+      intersect_stream<false>(bvh, rays, hits, n);
+  }
+
+  template <bool kBranchFree>
   static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
     const bool large = bvh.node_count != 0 && bvh.memory_bytes > kInTurnsAbove;
     for (std::size_t begin = 0; begin < n; begin += kStreamChunk) {
       const std::size_t count = n - begin > kStreamChunk ? kStreamChunk : n - begin;
       if (large && scattered(rays + begin, count)) {
-        if (branch_free(bvh))
-          intersect_in_turns<true>(bvh, rays + begin, hits + begin, count);
-        else
-          intersect_in_turns<false>(bvh, rays + begin, hits + begin, count);
+        intersect_in_turns<kBranchFree>(bvh, rays + begin, hits + begin, count);
       } else {
         for (std::size_t i = begin; i < begin + count; ++i)
-          hits[i] = intersect(bvh, rays[i]);
+          hits[i] = intersect<kBranchFree>(bvh, rays[i]);
       }
     }
   }
@@ -333,7 +339,7 @@ struct BvhTraversal {
       while (next < n) {
         const std::size_t i = next++;
         if (!ahead(rays[i])) {  // rare: one ray alone, through the general box test
-          hits[i] = intersect(bvh, rays[i]);
+          hits[i] = intersect<kBranchFree>(bvh, rays[i]);
           continue;
         }
         t.best = {rays[i].tmax, kNoHit};
