@@ -14,9 +14,9 @@
 
 #include <xsimd/xsimd.hpp>
 
-#include "fused.hpp"
-#include "lane_reduce.hpp"
-#include "ordered.hpp"
+#include "simd/fused.hpp"
+#include "simd/lane_reduce.hpp"
+#include "simd/ordered.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
 

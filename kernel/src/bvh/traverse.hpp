@@ -13,8 +13,8 @@
 
 #include <xsimd/xsimd.hpp>
 
-#include "lane_reduce.hpp"
-#include "sphere_batch.hpp"
+#include "simd/lane_reduce.hpp"
+#include "brute/sphere_batch.hpp"
 #include "sphray/bvh.hpp"
 
 namespace sphray::detail {

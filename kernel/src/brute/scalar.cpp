@@ -4,10 +4,10 @@
 #include <cmath>
 #include <optional>
 
-#include "bvh_scalar.hpp"
-#include "kernel_table.hpp"
+#include "bvh/scalar_walk.hpp"
+#include "dispatch/entry_table.hpp"
 #include "sphray/query.hpp"
-#include "validity.hpp"
+#include "brute/validity.hpp"
 
 namespace sphray::detail {
 bool valid_ray(const Ray& ray) {
