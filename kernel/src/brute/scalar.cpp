@@ -4,10 +4,10 @@
 #include <cmath>
 #include <optional>
 
+#include "brute/validity.hpp"
 #include "bvh/scalar_walk.hpp"
 #include "dispatch/entry_table.hpp"
 #include "sphray/query.hpp"
-#include "brute/validity.hpp"
 
 namespace sphray::detail {
 bool valid_ray(const Ray& ray) {

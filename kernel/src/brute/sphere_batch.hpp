@@ -8,19 +8,19 @@
 // standard library: only builtins and xsimd, whose code is templated on A as well.
 #pragma once
 
-#include <bit>
 #include <cstddef>
 #include <cstdint>
 
 #include <xsimd/xsimd.hpp>
 
 #include "simd/fused.hpp"
+#include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 #include "simd/ordered.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
 
-namespace sphray::detail {
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
 // When roots() gives up on a batch none of whose lanes can hit. The brute-force loop meets
 // mostly batches far from the ray, which the cheap pre-test may_hit() skips; a tree's leaves
@@ -130,7 +130,7 @@ struct SphereBatchKernel {
     if (kSkip == Skip::kAfterDisc && xsimd::none(live)) return false;
     live = live & (sp.r > Floats(0.0f));
     const Floats c = k * b - disc;
-    const Floats q = b + xsimd::copysign(xsimd::sqrt(s.a * disc), b);
+    const Floats q = b + with_sign_of(xsimd::sqrt(s.a * disc), b);
     const Floats t0 = c / q, t1 = q * s.inv_a;
     // t0 is NaN only for 0/0 (origin on the sphere, tangent), and then both roots are t1.
     using O = Ordered<A>;
@@ -158,8 +158,13 @@ struct SphereBatchKernel {
     return !xsimd::all(F::fnma(gu, gu, gg) > bound);
   }
 
+  // copysign(x, b) for x >= 0 (a square root; in a lane that cannot hit, any value), written
+  // out: xsimd's copysign calls a function templated on float only, one symbol for every unit
+  // (simd/isa_namespace.hpp).
+  static Floats with_sign_of(const Floats& x, const Floats& b) { return x | (b & Floats(-0.0f)); }
+
   // Batch index i's bits, kept in a float lane: select() moves bits, never does arithmetic.
-  static Floats index_bits(std::uint32_t i) { return Floats(std::bit_cast<float>(i)); }
+  static Floats index_bits(std::uint32_t i) { return Floats(__builtin_bit_cast(float, i)); }
 
   // The horizontal step, once per ray: the smallest t over the lanes, then the lowest id among
   // the lanes that hold it (a lane's id is its batch index * width + lane). Branch-free: which
@@ -232,4 +237,4 @@ struct SphereBatchKernel {
   }
 };
 
-}  // namespace sphray::detail
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

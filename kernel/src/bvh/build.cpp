@@ -17,8 +17,8 @@
 
 #include <xsimd/xsimd.hpp>
 
-#include "bvh/parallel.hpp"
 #include "brute/validity.hpp"
+#include "bvh/parallel.hpp"
 
 #if SPHRAY_HAS_TBB
 #include <tbb/info.h>

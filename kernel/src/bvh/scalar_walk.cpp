@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
-#include "sphray/query.hpp"
 #include "brute/validity.hpp"
+#include "sphray/query.hpp"
 
 namespace sphray::detail {
 namespace {

@@ -7,17 +7,17 @@
 // share a symbol.
 #pragma once
 
-#include <bit>
 #include <cstddef>
 #include <cstdint>
 
 #include <xsimd/xsimd.hpp>
 
-#include "simd/lane_reduce.hpp"
 #include "brute/sphere_batch.hpp"
+#include "simd/isa_namespace.hpp"
+#include "simd/lane_reduce.hpp"
 #include "sphray/bvh.hpp"
 
-namespace sphray::detail {
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
 template <class A>
 struct BvhTraversal {
@@ -136,7 +136,7 @@ struct BvhTraversal {
   }
 
   static std::uint32_t child_ref(const float* node, unsigned lane) {
-    return std::bit_cast<std::uint32_t>(node[6 * kWidth + lane]);
+    return __builtin_bit_cast(std::uint32_t, node[6 * kWidth + lane]);
   }
 
   // Pushes the entered children but the nearest, farthest first, and returns the nearest: it
@@ -406,7 +406,7 @@ struct BvhTraversal {
 
   // The open interval: t == tmax is no hit, so a tie counts only against an earlier hit.
   static void fold(Hit& best, float t, std::uint32_t id) {
-    if (t < best.t || (t == best.t && best.found() && id < best.id)) best = {t, id};
+    if (t < best.t || (t == best.t && best.id != kNoHit && id < best.id)) best = {t, id};
   }
 
   // The lowest id among the lanes of the leaf at slot i whose bits are set (at least one).
@@ -436,4 +436,4 @@ struct BvhTraversal {
   }
 };
 
-}  // namespace sphray::detail
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

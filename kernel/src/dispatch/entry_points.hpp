@@ -4,14 +4,15 @@
 
 #include <cstddef>
 
+#include "brute/sphere_batch.hpp"
 #include "bvh/scalar_walk.hpp"
 #include "bvh/traverse.hpp"
 #include "dispatch/entry_table.hpp"
 #include "dispatch/size_policy.hpp"
-#include "brute/sphere_batch.hpp"
+#include "simd/isa_namespace.hpp"
 #include "sphray/query.hpp"
 
-namespace sphray::detail {
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
 template <class A>
 struct KernelEntries {
@@ -62,4 +63,4 @@ constexpr Kernel make_kernel(Isa isa) {
           &E::bvh_intersect_stream};
 }
 
-}  // namespace sphray::detail
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

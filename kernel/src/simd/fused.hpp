@@ -17,7 +17,9 @@
 #include <immintrin.h>
 #endif
 
-namespace sphray::detail {
+#include "simd/isa_namespace.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
 template <class A>
 struct Fused {
@@ -46,4 +48,4 @@ struct Fused {
   }
 };
 
-}  // namespace sphray::detail
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE
