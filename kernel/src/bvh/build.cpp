@@ -18,6 +18,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "brute/validity.hpp"
+#include "bvh/node.hpp"
 #include "bvh/parallel.hpp"
 
 #if SPHRAY_HAS_TBB
@@ -27,6 +28,10 @@
 
 namespace sphray::detail {
 namespace {
+
+using SPHRAY_ISA_NAMESPACE::ChildRef;
+using SPHRAY_ISA_NAMESPACE::node_floats;
+using SPHRAY_ISA_NAMESPACE::NodeView;
 
 constexpr float kInf = INFINITY;
 // Bins per axis: 32 on large ranges, 16 below kFewBinsBelow spheres, where the bins' setup and
@@ -445,6 +450,23 @@ class Builder {
   std::size_t block_;
 };
 
+// A child's box in a node, and back.
+void write_box(const NodeView<float>& node, std::size_t k, const Box& b) {
+  for (int axis = 0; axis < 3; ++axis) {
+    node.lo(axis, k) = b.lo[axis];
+    node.hi(axis, k) = b.hi[axis];
+  }
+}
+
+Box read_box(const NodeView<const float>& node, std::size_t k) {
+  Box b;
+  for (int axis = 0; axis < 3; ++axis) {
+    b.lo[axis] = node.lo(axis, k);
+    b.hi[axis] = node.hi(axis, k);
+  }
+  return b;
+}
+
 // Where a leaf's spheres go: prims [begin, begin + count) to the slots from slot on.
 struct LeafPlace {
   std::size_t begin, count, slot;
@@ -463,34 +485,27 @@ class Flattener {
   std::size_t slots_used = 0;  // a multiple of the width
 
   void write(const Builder::Node& node, std::size_t index) {
-    float* slots = out_.nodes.get() + index * kBvhNodeRows * w_;
+    const NodeView<float> view(out_.nodes.get(), index, w_);
     std::size_t next = index + 1;
     for (std::size_t k = 0; k < w_; ++k) {
       const Builder::Node::Child* child = k < node.children.size() ? &node.children[k] : nullptr;
-      std::uint32_t ref = kBvhEmptySlot;
+      ChildRef ref = ChildRef::empty();
       if (child && child->node) {
-        ref = static_cast<std::uint32_t>(next);
+        ref = ChildRef::node(next);
         write(*child->node, next);
         next += child->node->subtree_nodes;
       } else if (child) {
         const std::size_t count = child->cluster.size();
-        ref = kBvhLeafBit | static_cast<std::uint32_t>(slots_used + count - 1);
+        ref = ChildRef::leaf(slots_used, count);
         leaves.push_back({child->cluster.begin, count, slots_used});
         slots_used += w_;
       }
-      write_box(slots, k, child ? child->cluster.box : Box{});
-      slots[6 * w_ + k] = std::bit_cast<float>(ref);
+      write_box(view, k, child ? child->cluster.box : Box{});
+      view.set_ref(k, ref);
     }
   }
 
  private:
-  void write_box(float* slots, std::size_t k, const Box& b) {
-    for (int axis = 0; axis < 3; ++axis) {
-      slots[(2 * axis) * w_ + k] = b.lo[axis];
-      slots[(2 * axis + 1) * w_ + k] = b.hi[axis];
-    }
-  }
-
   BvhArrays& out_;
   std::size_t w_;
 };
@@ -511,9 +526,9 @@ BvhArrays::AlignedArray<T> allocate(std::size_t n) {
 
 // The zeroed nodes of a tree of nodes nodes.
 void allocate_nodes(BvhArrays& out, std::size_t nodes) {
-  if (nodes >= kBvhEmptySlot) throw std::length_error("sphray::SphereBVH: too many spheres");
-  out.nodes = allocate<float>(nodes * kBvhNodeRows * out.width);
-  std::fill_n(out.nodes.get(), nodes * kBvhNodeRows * out.width, 0.0f);
+  if (nodes >= ChildRef::kEmptyBits) throw std::length_error("sphray::SphereBVH: too many spheres");
+  out.nodes = allocate<float>(node_floats(nodes, out.width));
+  std::fill_n(out.nodes.get(), node_floats(nodes, out.width), 0.0f);
   out.node_count = nodes;
 }
 
@@ -569,17 +584,13 @@ float measure_leaf_overlap(const BvhArrays& tree) {
   double leaf_volume = 0.0;
   Box root;
   for (std::size_t n = 0; n < tree.node_count; ++n) {
-    const float* slots = tree.nodes.get() + n * kBvhNodeRows * w;
+    const NodeView<const float> node(tree.nodes.get(), n, w);
     for (std::size_t k = 0; k < w; ++k) {
-      const std::uint32_t ref = std::bit_cast<std::uint32_t>(slots[6 * w + k]);
-      if (ref == kBvhEmptySlot || (n != 0 && (ref & kBvhLeafBit) == 0)) continue;
-      Box box;
-      for (int axis = 0; axis < 3; ++axis) {
-        box.lo[axis] = slots[(2 * axis) * w + k];
-        box.hi[axis] = slots[(2 * axis + 1) * w + k];
-      }
+      const ChildRef ref = node.ref(k);
+      if (ref.is_empty() || (n != 0 && !ref.is_leaf())) continue;
+      const Box box = read_box(node, k);
       if (n == 0) root.grow(box);
-      if (ref & kBvhLeafBit) leaf_volume += box.volume();
+      if (ref.is_leaf()) leaf_volume += box.volume();
     }
   }
   const double overlap = leaf_volume / root.volume();
@@ -630,7 +641,7 @@ BvhData BvhArrays::data() const {
 }
 
 std::size_t BvhArrays::memory_bytes() const {
-  return node_count * kBvhNodeRows * width * sizeof(float) +
+  return node_floats(node_count, width) * sizeof(float) +
          slots * (4 * sizeof(float) + sizeof(std::uint32_t));
 }
 
@@ -657,29 +668,24 @@ void refit_bvh(BvhArrays& tree, SphereView v) {
   const std::size_t w = tree.width;
   // Children come after their parent, so a reverse sweep sees every child's boxes first.
   for (std::size_t n = tree.node_count; n-- > 0;) {
-    float* slots_of = tree.nodes.get() + n * kBvhNodeRows * w;
+    const NodeView<float> node(tree.nodes.get(), n, w);
     for (std::size_t k = 0; k < w; ++k) {
-      const std::uint32_t ref = std::bit_cast<std::uint32_t>(slots_of[6 * w + k]);
-      if (ref == kBvhEmptySlot) continue;
+      const ChildRef ref = node.ref(k);
+      if (ref.is_empty()) continue;
       Box box;
-      if (ref & kBvhLeafBit) {
-        const std::size_t first = ref & kBvhLeafFirstMask & ~(w - 1);
-        const std::size_t count = (ref & (w - 1)) + 1;
-        for (std::size_t i = first; i < first + count; ++i)
+      if (ref.is_leaf()) {
+        for (std::size_t i = ref.first(w); i < ref.first(w) + ref.count(w); ++i)
           box.grow(
               sphere_box(d.spheres.cx[i], d.spheres.cy[i], d.spheres.cz[i], d.spheres.radius[i]));
       } else {
-        const float* child = tree.nodes.get() + std::size_t{ref} * kBvhNodeRows * w;
+        const NodeView<const float> child(tree.nodes.get(), ref.node_index(), w);
         for (std::size_t j = 0; j < w; ++j)
           for (int axis = 0; axis < 3; ++axis) {
-            box.lo[axis] = std::min(box.lo[axis], child[(2 * axis) * w + j]);
-            box.hi[axis] = std::max(box.hi[axis], child[(2 * axis + 1) * w + j]);
+            box.lo[axis] = std::min(box.lo[axis], child.lo(axis, j));
+            box.hi[axis] = std::max(box.hi[axis], child.hi(axis, j));
           }
       }
-      for (int axis = 0; axis < 3; ++axis) {
-        slots_of[(2 * axis) * w + k] = box.lo[axis];
-        slots_of[(2 * axis + 1) * w + k] = box.hi[axis];
-      }
+      write_box(node, k, box);
     }
   }
   tree.leaf_overlap = measure_leaf_overlap(tree);

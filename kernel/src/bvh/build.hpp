@@ -38,9 +38,6 @@ struct BvhArrays {
   std::size_t memory_bytes() const;
 };
 
-/// Child reference of a node slot that holds nothing (its box is empty).
-inline constexpr std::uint32_t kBvhEmptySlot = 0x7fffffffu;
-
 /// Builds the tree over spheres for nodes of width children and leaves of at most width
 /// spheres. Throws std::length_error past 2^31 spheres.
 BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions& options);

@@ -13,6 +13,8 @@
 #include <xsimd/xsimd.hpp>
 
 #include "brute/sphere_batch.hpp"
+#include "bvh/node.hpp"
+#include "bvh/robust_slab.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 #include "sphray/bvh.hpp"
@@ -25,17 +27,10 @@ struct BvhTraversal {
   using Floats = typename Batch::Floats;
   using Mask = typename Batch::Mask;
   static constexpr std::size_t kWidth = Batch::kWidth;
-  static constexpr std::size_t kNodeFloats = kBvhNodeRows * kWidth;
+  using Node = NodeView<const float>;
   // A node visit leaves at most kWidth - 1 entries above its ancestors' (one child is visited
   // next), and writes at most one slot past them: kBvhMaxDepth levels fit in this.
   static constexpr std::size_t kStackSize = kBvhMaxDepth * (kWidth - 1) + 1;
-
-  // Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013: with every slab distance computed as
-  // (plane - origin) * (1 / dir) in float, scaling the exit distance by 1 + 2 gamma(3), where
-  // gamma(n) = n u / (1 - n u) and u = 2^-24, makes the box test conservative: a ray that meets
-  // the box in exact arithmetic is never rejected.
-  static constexpr float kGamma3 = 3.0f * 0x1p-24f / (1.0f - 3.0f * 0x1p-24f);
-  static constexpr float kExitScale = 1.0f + 2.0f * kGamma3;
 
   // What one ray contributes to every node. near[axis] is the offset (in batches of a node's
   // box arrays) of the plane the ray meets first on that axis: lo for a positive direction, hi
@@ -46,7 +41,7 @@ struct BvhTraversal {
   };
 
   struct StackEntry {
-    std::uint32_t ref;
+    ChildRef ref;
     float tnear;
   };
 
@@ -85,8 +80,8 @@ struct BvhTraversal {
 #endif
   }
 
-  static Floats plane(const float* node, std::size_t array) {
-    return Floats::load_aligned(node + array * kWidth);
+  static Floats plane(const Node& node, std::size_t row) {
+    return Floats::load_aligned(node.plane_row(row));
   }
 
   // Rays with tmin >= 0 and direction components of normal magnitude, whose inverses are
@@ -103,7 +98,7 @@ struct BvhTraversal {
   // The children whose boxes the ray enters before best_t, and where it enters them. kAhead:
   // the ray passed ahead(); both forms return the same mask and tnear for such a ray.
   template <bool kAhead>
-  static Mask enter_children(const NodeSetup& s, const float* node, const Floats& best_t,
+  static Mask enter_children(const NodeSetup& s, const Node& node, const Floats& best_t,
                              Floats& tnear) {
     const Floats near_x = (plane(node, s.near_x) - s.ox) * s.inv_dx;
     const Floats near_y = (plane(node, s.near_y) - s.oy) * s.inv_dy;
@@ -111,7 +106,7 @@ struct BvhTraversal {
     const Floats far_x = (plane(node, s.near_x ^ 1u) - s.ox) * s.inv_dx;
     const Floats far_y = (plane(node, s.near_y ^ 1u) - s.oy) * s.inv_dy;
     const Floats far_z = (plane(node, s.near_z ^ 1u) - s.oz) * s.inv_dz;
-    const Floats shrink(1.0f - 2.0f * kGamma3), grow(kExitScale);
+    const Floats shrink(kEntryScale), grow(kExitScale);
     Floats tfar_widened;
     if constexpr (kAhead) {
       // No NaN: plain min/max, in a tree rather than a chain (the box test is on the path from
@@ -135,15 +130,11 @@ struct BvhTraversal {
     return (tnear <= tfar_widened) & (tnear <= best_t);
   }
 
-  static std::uint32_t child_ref(const float* node, unsigned lane) {
-    return __builtin_bit_cast(std::uint32_t, node[6 * kWidth + lane]);
-  }
-
   // Pushes the entered children but the nearest, farthest first, and returns the nearest: it
   // is visited next, with no trip through the stack. One or two children, what most nodes give
   // an incoherent ray, take a path without data-dependent branches.
-  static std::uint32_t enter(const float* node, unsigned bits, const Floats& tnear,
-                             StackEntry* stack, std::size_t& top) {
+  static ChildRef enter(const Node& node, unsigned bits, const Floats& tnear, StackEntry* stack,
+                        std::size_t& top) {
     alignas(64) float t[kWidth];
     tnear.store_aligned(t);
     const unsigned rest = bits & (bits - 1);
@@ -153,9 +144,9 @@ struct BvhTraversal {
       const bool b_first = t[b] <= t[a];
       const unsigned nearer = b_first ? b : a, farther = b_first ? a : b;
       // Written even for one child: the slot above top is free (see kStackSize).
-      stack[top] = {child_ref(node, farther), t[farther]};
+      stack[top] = {node.ref(farther), t[farther]};
       top += rest != 0;
-      return child_ref(node, nearer);
+      return node.ref(nearer);
     }
     // Three or more: each child goes straight to its slot in the sorted run, its rank being
     // how many entered children precede it (farther, or as near and in a lower lane). No
@@ -166,7 +157,7 @@ struct BvhTraversal {
       const unsigned farther = LaneReduce<A>::bits(tnear > tl) & bits;
       const unsigned tied = LaneReduce<A>::bits(tnear == tl) & bits & ((1u << lane) - 1u);
       stack[top + static_cast<unsigned>(__builtin_popcount(farther)) +
-            static_cast<unsigned>(__builtin_popcount(tied))] = {child_ref(node, lane), t[lane]};
+            static_cast<unsigned>(__builtin_popcount(tied))] = {node.ref(lane), t[lane]};
     }
     top += static_cast<unsigned>(__builtin_popcount(bits));
     return stack[--top].ref;
@@ -180,25 +171,25 @@ struct BvhTraversal {
   struct Walk {
     NodeSetup s;
     std::size_t top;
-    std::uint32_t ref;
+    ChildRef ref;
     StackEntry stack[kStackSize];
 
     void start(const Ray& ray) {
       s = node_setup(ray);
       top = 0;
-      ref = 0;  // the root node
+      ref = ChildRef::node(0);  // the root
     }
 
     bool descend(const BvhData& bvh, float best_t, std::size_t& first) {
-      while ((ref & kBvhLeafBit) == 0) {
-        const float* node = bvh.nodes + std::size_t{ref} * kNodeFloats;
+      while (!ref.is_leaf()) {
+        const Node node(bvh.nodes, ref.node_index(), kWidth);
         Floats tnear;
         const unsigned bits =
             LaneReduce<A>::bits(enter_children<kAhead>(s, node, Floats(best_t), tnear));
         if (bits == 0) return false;
         ref = enter(node, bits, tnear, stack, top);
       }
-      first = ref & kBvhLeafFirstMask & ~std::uint32_t{kWidth - 1};
+      first = ref.first(kWidth);
       return true;
     }
 
@@ -391,7 +382,7 @@ struct BvhTraversal {
       if (xsimd::none(hit)) return;
       const Floats m =
           LaneReduce<A>::template all_min<float>(xsimd::select(hit, t, Floats(__builtin_inff())));
-      fold(best, m.get(0), lowest_id(bvh, i, LaneReduce<A>::bits(hit & (t == m))));
+      keep_closer(best, m.get(0), lowest_id(bvh, i, LaneReduce<A>::bits(hit & (t == m))));
     } else {
       unsigned bits = LaneReduce<A>::bits(hit);
       if (bits == 0) return;
@@ -399,14 +390,9 @@ struct BvhTraversal {
       t.store_aligned(lanes);
       for (; bits != 0; bits &= bits - 1) {
         const auto lane = static_cast<unsigned>(__builtin_ctz(bits));
-        fold(best, lanes[lane], bvh.ids[i + lane]);
+        keep_closer(best, lanes[lane], bvh.ids[i + lane]);
       }
     }
-  }
-
-  // The open interval: t == tmax is no hit, so a tie counts only against an earlier hit.
-  static void fold(Hit& best, float t, std::uint32_t id) {
-    if (t < best.t || (t == best.t && best.id != kNoHit && id < best.id)) best = {t, id};
   }
 
   // The lowest id among the lanes of the leaf at slot i whose bits are set (at least one).
