@@ -2,7 +2,7 @@
 //
 // A per-ISA unit (dispatch/isa_*.cpp) is built with SPHRAY_ISA_NAMESPACE set to its instruction
 // set's name (CMakeLists.txt), every other unit with "baseline". Headers whose code such a unit
-// compiles (simd/, brute/sphere_batch.hpp, bvh/node.hpp, bvh/traverse.hpp,
+// compiles (simd/, brute/sphere_lanes.hpp and brute_force.hpp, the walk's headers in bvh/,
 // dispatch/entry_points.hpp) put it in sphray::detail::SPHRAY_ISA_NAMESPACE: an inline function
 // there is a different symbol in every unit, so the linker can never keep one unit's AVX-512
 // copy for another unit's callers. What they call outside it must still be templated on the
