@@ -45,4 +45,8 @@ BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions
 /// Copies the moved spheres into the tree's leaf order and recomputes every box bottom-up.
 void refit_bvh(BvhArrays& tree, SphereView spheres);
 
+/// The leaf boxes' summed volume over the root box's (BvhArrays::leaf_overlap), from the
+/// written nodes.
+float measure_leaf_overlap(const BvhArrays& tree);
+
 }  // namespace sphray::detail
