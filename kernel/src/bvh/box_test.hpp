@@ -14,7 +14,7 @@
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 #include "simd/ordered.hpp"
-#include "sphray/bvh.hpp"
+#include "bvh/bvh_data.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 

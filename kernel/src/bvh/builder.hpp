@@ -18,7 +18,7 @@
 #include "bvh/binning.hpp"
 #include "bvh/parallel.hpp"
 #include "bvh/prim.hpp"
-#include "sphray/bvh.hpp"
+#include "bvh/bvh_data.hpp"
 
 namespace sphray::detail {
 

@@ -12,7 +12,7 @@
 #include "bvh/robust_slab.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
-#include "sphray/bvh.hpp"
+#include "bvh/bvh_data.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 

@@ -7,7 +7,7 @@
 #include <type_traits>
 
 #include "simd/isa_namespace.hpp"
-#include "sphray/bvh.hpp"
+#include "bvh/bvh_data.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 

@@ -9,7 +9,7 @@
 
 #include "bvh/traverse.hpp"
 #include "simd/isa_namespace.hpp"
-#include "sphray/bvh.hpp"
+#include "bvh/bvh_data.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 

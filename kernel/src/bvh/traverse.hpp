@@ -12,7 +12,7 @@
 #include "bvh/leaf_test.hpp"
 #include "bvh/walk.hpp"
 #include "simd/isa_namespace.hpp"
-#include "sphray/bvh.hpp"
+#include "bvh/bvh_data.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 

@@ -14,6 +14,9 @@
 namespace sphray {
 namespace {
 
+using detail::find_kernel;
+using detail::Kernel;
+
 constexpr std::array<std::string_view, 5> kNames = {"scalar", "sse4.2", "avx2", "avx512", "neon"};
 
 // Every kernel this build has, best first.
@@ -129,12 +132,16 @@ std::size_t isa_width(Isa isa) {
   return 1;
 }
 
+namespace detail {
+
 const Kernel* find_kernel(Isa isa) {
   const Supported& s = supported();
   for (std::size_t i = 0; i < s.count; ++i)
     if (s.isas[i] == isa) return s.kernels[i];
   return nullptr;
 }
+
+}  // namespace detail
 
 std::span<const Isa> supported_isas() {
   const Supported& s = supported();
@@ -162,6 +169,8 @@ IsaChoice choose_isa(const char* requested) {
 Isa active_isa() {
   return choice().active->isa;
 }
+namespace detail {
+
 const Kernel& active_kernel() {
   return *choice().active;
 }
@@ -170,5 +179,7 @@ const Kernel& kernel_for_size(std::size_t sphere_count) {
   const Choice& c = choice();
   return sphere_count < Choice::kSmall ? *c.by_count[sphere_count] : *c.active;
 }
+
+}  // namespace detail
 
 }  // namespace sphray

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "dispatch/entry_table.hpp"
 #include "dispatch/size_policy.hpp"
 #include "sphray/isa.hpp"
 
@@ -15,18 +16,19 @@ namespace sphray {
 // a fifth of that.
 Hit intersect(SphereView spheres, const Ray& ray) {
   if (spheres.count < detail::kScalarBelow) return scalar::intersect(spheres, ray);
-  return kernel_for_size(spheres.count).intersect(spheres, ray);
+  return detail::kernel_for_size(spheres.count).intersect(spheres, ray);
 }
 
 bool occluded(SphereView spheres, const Ray& ray) {
   if (spheres.count < detail::kScalarBelow) return scalar::occluded(spheres, ray);
-  return kernel_for_size(spheres.count).occluded(spheres, ray);
+  return detail::kernel_for_size(spheres.count).occluded(spheres, ray);
 }
 
 void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hits) {
   if (rays.size() != hits.size())
     throw std::length_error("sphray::intersect: rays and hits differ in size");
-  kernel_for_size(spheres.count).intersect_stream(spheres, rays.data(), hits.data(), rays.size());
+  detail::kernel_for_size(spheres.count)
+      .intersect_stream(spheres, rays.data(), hits.data(), rays.size());
 }
 
 Surface surface(SphereView spheres, const Ray& ray, const Hit& hit) {
