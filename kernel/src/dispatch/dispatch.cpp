@@ -8,7 +8,7 @@
 
 #include "dispatch/cpu.hpp"
 #include "dispatch/entry_table.hpp"
-#include "dispatch/size_policy.hpp"
+#include "dispatch/query_plan.hpp"
 #include "sphray/isa.hpp"
 
 namespace sphray {
@@ -93,7 +93,9 @@ struct Choice {
   // scalar loop (docs/performance.md). The widest kernel no wider than the active one whose
   // width is at most max(4, 1.5 n), or the scalar one below kScalarBelow spheres.
   const Kernel* narrowest_fit(std::size_t n) const {
-    const std::size_t widest = n < detail::kScalarBelow ? 1 : std::max<std::size_t>(4, 3 * n / 2);
+    const std::size_t widest = detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(n)
+                                   ? 1
+                                   : std::max<std::size_t>(4, 3 * n / 2);
     for (const Kernel* k : supported().kernels)
       if (k != nullptr && k->width <= active->width && k->width <= widest) return k;
     return active;

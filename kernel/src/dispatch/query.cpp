@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "dispatch/entry_table.hpp"
-#include "dispatch/size_policy.hpp"
+#include "dispatch/query_plan.hpp"
 #include "sphray/isa.hpp"
 
 namespace sphray {
@@ -15,12 +15,14 @@ namespace sphray {
 // send them: a ray against one sphere takes a few nanoseconds, and looking the kernel up measured
 // a fifth of that.
 Hit intersect(SphereView spheres, const Ray& ray) {
-  if (spheres.count < detail::kScalarBelow) return scalar::intersect(spheres, ray);
+  if (detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(spheres.count))
+    return scalar::intersect(spheres, ray);
   return detail::kernel_for_size(spheres.count).intersect(spheres, ray);
 }
 
 bool occluded(SphereView spheres, const Ray& ray) {
-  if (spheres.count < detail::kScalarBelow) return scalar::occluded(spheres, ray);
+  if (detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(spheres.count))
+    return scalar::occluded(spheres, ray);
   return detail::kernel_for_size(spheres.count).occluded(spheres, ray);
 }
 
