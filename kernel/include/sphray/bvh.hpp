@@ -79,12 +79,18 @@ class SphereBVH {
  public:
   /// An empty tree (no spheres), for the active instruction set.
   SphereBVH();
-  /// Builds over spheres for the active instruction set. Throws std::length_error past
-  /// 2^31 spheres.
+  /// Builds over spheres for the active instruction set. Throws std::length_error when the
+  /// tree's sphere slots would reach 2^31: each leaf takes a whole batch of W slots (W the
+  /// instruction set's width, 16 for AVX-512) however few spheres it holds, so the limit is
+  /// met before 2^31 spheres. Below 2^31 / W spheres (2^27 with AVX-512, 2^28 with AVX2) a
+  /// build never meets it; above, it depends on how full the leaves come out.
   explicit SphereBVH(SphereView spheres, BvhBuildOptions options = {});
-  /// Builds over spheres for isa. Throws std::invalid_argument if find_kernel(isa) is null.
+  /// Builds over spheres for isa. Throws std::invalid_argument if find_kernel(isa) is null or
+  /// isa is not one of the Isa enumerators.
   SphereBVH(SphereView spheres, Isa isa, BvhBuildOptions options = {});
 
+  /// A moved-from tree is the empty tree of the same instruction set: size() 0, every query a
+  /// miss, refit() with an empty view only.
   SphereBVH(SphereBVH&&) noexcept;
   SphereBVH& operator=(SphereBVH&&) noexcept;
   ~SphereBVH();
@@ -108,8 +114,10 @@ class SphereBVH {
   const Kernel& kernel() const { return *kernel_; }
 
  private:
+  void become_empty() noexcept;
+
   struct Storage;
-  std::unique_ptr<Storage> storage_;
+  std::unique_ptr<Storage> storage_;  // null once moved from
   detail::BvhData data_;
   const Kernel* kernel_;
 };
