@@ -33,6 +33,10 @@ struct DuplicateKey {
 };
 std::optional<DuplicateKey> find_duplicate_key(std::string_view text);
 
+/// Where the first '[' or '{' that opens a level deeper than max_depth is, outside strings, or
+/// nothing. One pass over the bytes, no allocation: run before the parser builds anything.
+std::optional<std::size_t> find_nesting_beyond(std::string_view text, std::size_t max_depth);
+
 /// Where a SAX pass over the text first fails (for errors json::parse reports without a
 /// position, such as a number beyond double's range).
 std::size_t first_error(std::string_view text);

@@ -208,6 +208,13 @@ Scene parse_scene(std::string_view text, const std::string& source) {
   if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
     throw SceneError(source + ": expected a JSON scene, the file is empty");
   }
+  // The format nests four levels (the scene, "spheres", a sphere, its "center"); a limit far
+  // above that keeps what nlohmann builds for a hostile file (about 100 bytes per level) small.
+  if (auto deep = json_position::find_nesting_beyond(text, kMaxSceneNesting)) {
+    throw SceneError(source + ":" + json_position::line_column(text, *deep) +
+                     ": expected at most " + std::to_string(kMaxSceneNesting) +
+                     " levels of nested arrays and objects");
+  }
   json root;
   try {
     root = json::parse(text);

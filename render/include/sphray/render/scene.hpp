@@ -45,6 +45,9 @@ class SceneError : public std::runtime_error {
 inline constexpr std::size_t kMaxRandomSpheres = std::size_t{1} << 24;
 inline constexpr int kMaxImageSide = 16384;
 
+/// The deepest nesting of arrays and objects a scene file may have (the format uses four).
+inline constexpr std::size_t kMaxSceneNesting = 64;
+
 /// "single", "three", "rtiow-final", "random:N".
 std::vector<std::string> preset_names();
 /// One line describing each preset, in the order of preset_names().
