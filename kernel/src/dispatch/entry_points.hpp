@@ -4,11 +4,11 @@
 
 #include <cstddef>
 
-#include "bvh_scalar.hpp"
-#include "bvh_traverse.hpp"
-#include "kernel_table.hpp"
-#include "size_policy.hpp"
-#include "sphere_batch.hpp"
+#include "bvh/scalar_walk.hpp"
+#include "bvh/traverse.hpp"
+#include "dispatch/entry_table.hpp"
+#include "dispatch/size_policy.hpp"
+#include "brute/sphere_batch.hpp"
 #include "sphray/query.hpp"
 
 namespace sphray::detail {

@@ -1,11 +1,11 @@
-#include "bvh_scalar.hpp"
+#include "bvh/scalar_walk.hpp"
 
 #include <bit>
 #include <cmath>
 #include <cstdint>
 
 #include "sphray/query.hpp"
-#include "validity.hpp"
+#include "brute/validity.hpp"
 
 namespace sphray::detail {
 namespace {

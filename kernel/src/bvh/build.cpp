@@ -4,7 +4,7 @@
 // Rid of Packets", IEEE RT 2008). Deterministic: every step is a function of its input range
 // only, the parallel reductions combine counts and min/max, which are exact in any order, and
 // the parallel partition is stable over fixed blocks.
-#include "bvh_build.hpp"
+#include "bvh/build.hpp"
 
 #include <algorithm>
 #include <array>
@@ -17,8 +17,8 @@
 
 #include <xsimd/xsimd.hpp>
 
-#include "parallel.hpp"
-#include "validity.hpp"
+#include "bvh/parallel.hpp"
+#include "brute/validity.hpp"
 
 #if SPHRAY_HAS_TBB
 #include <tbb/info.h>

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "bvh_build.hpp"
+#include "bvh/build.hpp"
 
 namespace sphray {
 

@@ -9,7 +9,7 @@
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #endif
 
-#include "kernel_entries.hpp"
+#include "dispatch/entry_points.hpp"
 
 namespace sphray::detail {
 constinit const Kernel kAvx512Kernel = make_kernel<xsimd::avx512f>(Isa::avx512);
