@@ -212,8 +212,7 @@ int run_render(const RenderArgs& args) {
   } catch (const std::bad_alloc&) {
     // The estimate leaves headroom, but a scene of millions of spheres or another process can
     // still take what was there; the pending file is gone by now (its destructor ran).
-    report(args.output + ": out of memory while rendering a " + std::to_string(args.width) + "x" +
-           std::to_string(args.height) + " image");
+    report(args.scene + ": out of memory while building or rendering the scene");
     return kExitIo;
   }
 }

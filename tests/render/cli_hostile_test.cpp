@@ -281,6 +281,21 @@ TEST_F(Hostile, PpmTooLargeForTheMemoryLimitIsRefusedBeforeRendering) {
   EXPECT_TRUE(names().empty());
 }
 
+TEST_F(Hostile, OutOfMemoryWhileBuildingTheSceneIsAMessageNotACrash) {
+  if (kSanitized) GTEST_SKIP() << "RLIMIT_AS cannot be set under a sanitizer";
+  // 16,777,216 spheres take more than 600 MB before any image is asked for: std::bad_alloc
+  // from the scene, caught in the command.
+  write_text(path("out.png"), kOld);
+  Outcome o = run(
+      {.args = {"render", "-s", "random:16777216", "-W", "16", "-H", "9", "-o", path("out.png")},
+       .limits = {{RLIMIT_AS, rlim_t{600000} * 1024}}});
+  EXPECT_EQ(o.exit, 1) << o.out;
+  EXPECT_EQ(o.out,
+            "sphray: random:16777216: out of memory while building or rendering the scene\n");
+  EXPECT_EQ(read_bytes(path("out.png")), kOld);
+  EXPECT_EQ(names(), std::vector<std::string>{"out.png"});
+}
+
 // --- Memory that grew with the square of the input -------------------------------------------
 
 TEST_F(Hostile, DeepJsonIsRefusedUnderAMemoryLimit) {
