@@ -323,6 +323,15 @@ TEST_F(Hostile, PrivateOutputKeepsMode600) {
   EXPECT_EQ(mode_of(path("out.png")), 0600u);
 }
 
+TEST_F(Hostile, NewOutputGetsTheModeTheUmaskGives) {
+  const mode_t mask = ::umask(027);  // the child inherits it
+  Outcome o =
+      run({.args = {"render", "-s", "single", "-W", "8", "-H", "8", "-q", "-o", path("new.png")}});
+  ::umask(mask);
+  EXPECT_EQ(o.exit, 0) << o.out;
+  EXPECT_EQ(mode_of(path("new.png")), 0640u);  // 0666 less 027, as open(2) would give
+}
+
 TEST_F(Hostile, OutputOwnerAndGroupAreKeptWherePermitted) {
   if (::geteuid() != 0) GTEST_SKIP() << "only root may give a file to another user";
   write_text(path("out.png"), kOld);
