@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "json_position.hpp"
@@ -107,6 +109,22 @@ TEST(SceneLimits, DevZeroIsCutAtTheSizeCap) {
     EXPECT_EQ(std::string(e.what()),
               "/dev/zero: expected a scene file of at most 64 MiB, got more");
   }
+}
+
+TEST(SceneLimits, FileOverTheSizeCapIsRefusedBeforeReading) {
+  // A sparse file of 64 MiB and one byte: refused by its size, without reading it.
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "sphray-scene-limits-large.json";
+  { std::ofstream(file) << "{}"; }
+  std::filesystem::resize_file(file, kMaxSceneBytes + 1);
+  try {
+    load_scene(file);
+    ADD_FAILURE() << "accepted a file over the cap";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              file.string() + ": expected a scene file of at most 64 MiB, got more");
+  }
+  std::filesystem::remove(file);
 }
 
 }  // namespace
