@@ -212,22 +212,29 @@ void AtomicOutput::create_named() {
   for (;;) {
     std::string name = std::string(kPrefix) + tag + std::to_string(::getpid()) + "-" +
                        std::to_string(counter++) + std::string(kSuffix);
+    // Armed before the file exists: a signal between creating and arming would leave it. A
+    // signal before the open unlinks a name that is not there (or, if the open is about to
+    // fail with EEXIST, a dead process's temporary with this pid, which is stale anyway).
+    const bool armed = arm_signal_cleanup(dir_fd_, name.c_str());
     int fd = above_standard_streams(
         ::openat(dir_fd_, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600));
     if (fd < 0) {
-      if (errno == EEXIST) continue;
-      throw io_error(target_, "cannot create the output file", errno);
+      const int error = errno;
+      if (armed) disarm_signal_cleanup();
+      if (error == EEXIST) continue;
+      throw io_error(target_, "cannot create the output file", error);
     }
     struct stat st {};
     // Another run's cleanup may have taken the lock and removed the name between the open and
     // the flock; then the file has no name left, and a new one is made.
     if (::flock(fd, LOCK_EX) != 0 || ::fstat(fd, &st) != 0 || st.st_nlink == 0) {
       ::close(fd);
+      if (armed) disarm_signal_cleanup();
       continue;
     }
     fd_ = fd;
     temporary_name_ = name;
-    signal_slot_ = arm_signal_cleanup(dir_fd_, temporary_name_.c_str());
+    signal_slot_ = armed;
     return;
   }
 }
