@@ -1,58 +1,61 @@
-// The entry points of one instruction set's kernel, built from SphereBatchKernel<A>. A per-ISA
-// unit includes this and defines its Kernel table with make_kernel<A>(isa).
+// The entry points of one instruction set, built from BruteForce<A> and the tree's walk over A.
+// A per-ISA unit includes this and defines its table with make_kernel<A>(isa).
 #pragma once
 
 #include <cstddef>
 
+#include "brute/brute_force.hpp"
 #include "bvh/scalar_walk.hpp"
+#include "bvh/stream.hpp"
 #include "bvh/traverse.hpp"
 #include "dispatch/entry_table.hpp"
-#include "dispatch/size_policy.hpp"
-#include "brute/sphere_batch.hpp"
+#include "dispatch/query_plan.hpp"
+#include "simd/isa_namespace.hpp"
 #include "sphray/query.hpp"
 
-namespace sphray::detail {
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
 template <class A>
-struct KernelEntries {
-  using Batch = SphereBatchKernel<A>;
+struct EntryPoints {
+  using Brute = BruteForce<A>;
 
   static Hit intersect(SphereView v, const Ray& ray) {
-    return v.count < kScalarBelow ? scalar::intersect(v, ray) : Batch::intersect(v, ray);
+    return QueryPlan::scalar(v.count) ? scalar::intersect(v, ray) : Brute::intersect(v, ray);
   }
   static bool occluded(SphereView v, const Ray& ray) {
-    return v.count < kScalarBelow ? scalar::occluded(v, ray) : Batch::occluded(v, ray);
+    return QueryPlan::scalar(v.count) ? scalar::occluded(v, ray) : Brute::occluded(v, ray);
   }
   static void intersect_stream(SphereView v, const Ray* rays, Hit* hits, std::size_t n) {
-    if (v.count < kScalarBelow) {
+    if (QueryPlan::scalar(v.count)) {
       for (std::size_t i = 0; i < n; ++i)
         hits[i] = scalar::intersect(v, rays[i]);
       return;
     }
     for (std::size_t i = 0; i < n; ++i)
-      hits[i] = Batch::intersect(v, rays[i]);
+      hits[i] = Brute::intersect(v, rays[i]);
   }
 
   // A tree over so few spheres takes the scalar path too, so that it returns exactly what the
   // brute-force entries above return on the same spheres.
   using Tree = BvhTraversal<A>;
   static Hit bvh_intersect(const BvhData& bvh, const Ray& ray) {
-    return bvh.count < kScalarBelow ? scalar_bvh_intersect(bvh, ray) : Tree::intersect(bvh, ray);
+    return QueryPlan::scalar(bvh.count) ? scalar_bvh_intersect(bvh, ray)
+                                        : Tree::intersect(bvh, ray);
   }
   static bool bvh_occluded(const BvhData& bvh, const Ray& ray) {
-    return bvh.count < kScalarBelow ? scalar_bvh_occluded(bvh, ray) : Tree::occluded(bvh, ray);
+    return QueryPlan::scalar(bvh.count) ? scalar_bvh_occluded(bvh, ray) : Tree::occluded(bvh, ray);
   }
   static void bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
-    if (bvh.count < kScalarBelow) return scalar_bvh_intersect_stream(bvh, rays, hits, n);
-    Tree::intersect_stream(bvh, rays, hits, n);
+    if (QueryPlan::scalar(bvh.count)) return scalar_bvh_intersect_stream(bvh, rays, hits, n);
+    TreeStream<A>::intersect_stream(bvh, rays, hits, n);
   }
 };
 
 template <class A>
 constexpr Kernel make_kernel(Isa isa) {
-  using E = KernelEntries<A>;
+  using E = EntryPoints<A>;
   return {isa,
-          E::Batch::kWidth,
+          E::Brute::kWidth,
           &E::intersect,
           &E::occluded,
           &E::intersect_stream,
@@ -62,4 +65,4 @@ constexpr Kernel make_kernel(Isa isa) {
           &E::bvh_intersect_stream};
 }
 
-}  // namespace sphray::detail
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -2,5 +2,5 @@
 #include "dispatch/entry_points.hpp"
 
 namespace sphray::detail {
-constinit const Kernel kNeonKernel = make_kernel<xsimd::neon64>(Isa::neon);
+constinit const Kernel kNeonKernel = SPHRAY_ISA_NAMESPACE::make_kernel<xsimd::neon64>(Isa::neon);
 }

@@ -2,5 +2,5 @@
 #include "dispatch/entry_points.hpp"
 
 namespace sphray::detail {
-constinit const Kernel kSse42Kernel = make_kernel<xsimd::sse4_2>(Isa::sse4_2);
+constinit const Kernel kSse42Kernel = SPHRAY_ISA_NAMESPACE::make_kernel<xsimd::sse4_2>(Isa::sse4_2);
 }

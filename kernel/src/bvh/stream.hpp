@@ -1,0 +1,97 @@
+// The SIMD walk's stream of rays, written once over an xsimd architecture A: one ray at a time,
+// or on large trees several in turns, so that their cache misses overlap.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "bvh/bvh_data.hpp"
+#include "bvh/traverse.hpp"
+#include "dispatch/query_plan.hpp"
+#include "simd/isa_namespace.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
+
+template <class A>
+struct TreeStream {
+  using Tree = BvhTraversal<A>;
+  using Batch = typename Tree::Batch;
+  using Leaves = LeafTest<A>;
+  using Plan = QueryPlan;
+  template <bool kAhead>
+  using Walk = typename TreeWalk<A>::template Walk<kAhead>;
+
+  // hits[i] = intersect(bvh, rays[i]): a chunk of rays one at a time, or in turns where the
+  // plan says. The tree's leaf test is picked once per call.
+  static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+    if (Plan::branch_free_leaves(bvh))
+      intersect_stream<true>(bvh, rays, hits, n);
+    else
+      intersect_stream<false>(bvh, rays, hits, n);
+  }
+
+  template <bool kBranchFree>
+  static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+    constexpr std::size_t kChunk = Plan::kStreamChunk;
+    for (std::size_t begin = 0; begin < n; begin += kChunk) {
+      const std::size_t count = n - begin > kChunk ? kChunk : n - begin;
+      if (Plan::walks_in_turns(bvh, rays + begin, count)) {
+        intersect_in_turns<kBranchFree>(bvh, rays + begin, hits + begin, count);
+      } else {
+        for (std::size_t i = begin; i < begin + count; ++i)
+          hits[i] = Tree::template intersect<kBranchFree>(bvh, rays[i]);
+      }
+    }
+  }
+
+  static constexpr std::size_t kWalks = Plan::kWalks;
+
+  template <bool kBranchFree>
+  static void intersect_in_turns(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+    struct Turn {
+      Walk<true> walk;
+      typename Batch::RaySetup setup;
+      Hit best;
+      std::size_t ray, first;
+    };
+    Turn turns[kWalks];
+    bool live[kWalks];
+    std::size_t next = 0, busy = 0;
+    // Starts t on the next ray that reaches a leaf; the others are answered at once.
+    const auto start = [&](Turn& t) {
+      while (next < n) {
+        const std::size_t i = next++;
+        if (!Plan::ahead(rays[i])) {  // rare: one ray alone, through the general box test
+          hits[i] = Tree::template intersect<kBranchFree>(bvh, rays[i]);
+          continue;
+        }
+        t.best = {rays[i].tmax, kNoHit};
+        if (Batch::setup(rays[i], t.setup)) {
+          t.walk.start(rays[i]);
+          if (t.walk.first_leaf(bvh, t.best.t, t.first)) {
+            t.ray = i;
+            return true;
+          }
+        }
+        hits[i] = t.best;
+      }
+      return false;
+    };
+    for (std::size_t k = 0; k < kWalks; ++k)
+      busy += (live[k] = start(turns[k]));
+    while (busy != 0) {
+      for (std::size_t k = 0; k < kWalks; ++k) {
+        if (!live[k]) continue;
+        Turn& t = turns[k];
+        Leaves::template keep_closest<kBranchFree>(bvh, t.setup, t.first, t.best);
+        if (t.walk.next_leaf(bvh, t.best.t, t.first)) continue;
+        hits[t.ray] = t.best;
+        if (!(live[k] = start(t))) --busy;
+      }
+    }
+  }
+};
+
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE
