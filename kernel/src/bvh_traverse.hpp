@@ -384,7 +384,8 @@ struct BvhTraversal {
                            Hit& best) {
     Floats t;
     Mask live;
-    if (!Batch::template roots<!kBranchFree>(s, Batch::load(bvh.spheres, i), t, live)) return;
+    constexpr Skip kSkip = kBranchFree ? Skip::kNever : Skip::kAfterDisc;
+    if (!Batch::template roots<kSkip>(s, Batch::load(bvh.spheres, i), t, live)) return;
     const Mask hit = live & (t > s.tmin) & (t <= Floats(best.t));
     if constexpr (kBranchFree) {
       if (xsimd::none(hit)) return;
@@ -427,7 +428,7 @@ struct BvhTraversal {
     traverse(bvh, ray, s.tmax, [&](std::size_t first) {
       Floats t;
       Mask live;
-      hit = Batch::roots(s, Batch::load(bvh.spheres, first), t, live) &&
+      hit = Batch::template roots<Skip::kAfterDisc>(s, Batch::load(bvh.spheres, first), t, live) &&
             xsimd::any(live & (t > s.tmin) & (t < tmax));
       return hit;
     });

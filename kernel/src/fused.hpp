@@ -1,10 +1,13 @@
-// a * b + c and a * b - c rounded once, per lane, on every architecture whose instruction set
-// has a fused multiply-add. Class template over A, like everything the per-ISA units include.
+// a * b + c, a * b - c and c - a * b rounded once, per lane, on every architecture whose
+// instruction set has a fused multiply-add. Class template over A, like everything the per-ISA
+// units include.
 //
-// xsimd 8.1 has no AVX-512 fma: its generic fallback is a * b + c, which a compiler contracts
-// to one instruction or not depending on what it inlined where. The kernel is built with
-// -ffp-contract=off, so that the same ray gets the same t from every entry point, and asks
-// for each fused operation here.
+// Only tests that decide no result use them (the batch pre-test SphereBatchKernel::may_hit):
+// the roots are computed without fused operations, so that every instruction set and the
+// scalar reference make the same roundings. xsimd 8.1 has no AVX-512 fma: its generic fallback
+// is a * b + c, which a compiler contracts to one instruction or not depending on what it
+// inlined where. The kernel is built with -ffp-contract=off and asks for each fused operation
+// here.
 #pragma once
 
 #include <type_traits>
@@ -32,6 +35,14 @@ struct Fused {
     if constexpr (std::is_base_of_v<xsimd::avx512f, A>) return _mm512_fmsub_ps(a, b, c);
 #endif
     return xsimd::fms(a, b, c);
+  }
+
+  // c - a * b.
+  static Floats fnma(const Floats& a, const Floats& b, const Floats& c) {
+#if defined(__x86_64__) || defined(__i386__)
+    if constexpr (std::is_base_of_v<xsimd::avx512f, A>) return _mm512_fnmadd_ps(a, b, c);
+#endif
+    return xsimd::fnma(a, b, c);
   }
 };
 

@@ -24,20 +24,23 @@ using detail::valid_ray;
 using detail::valid_sphere;
 
 // The ray parameter at which ray enters the sphere, or leaves it if it starts inside, when that
-// lies in (tmin, tmax). See SphereBatchKernel::roots for the precision method.
+// lies in (tmin, tmax). The same operations in the same order as SphereBatchKernel::roots, which
+// explains the method: every instruction set returns these bits.
 std::optional<float> sphere_hit(Vec3 center, float radius, const Ray& ray, float tmax) {
   if (!valid_sphere(center, radius)) return std::nullopt;
   const Vec3 d = ray.dir;
   const Vec3 g = center - ray.origin;
-  const float a = dot(d, d);
-  const float b = dot(g, d);
-  const Vec3 v = (b / a) * d - g;  // from the centre to the ray's closest point
-  const float disc = radius * radius - dot(v, v);
+  const float a = d.x * d.x + d.y * d.y + d.z * d.z;
+  const float inv_a = 1.0f / a;
+  const float b = g.x * d.x + (g.y * d.y + g.z * d.z);
+  const float k = b * inv_a;
+  const Vec3 v{k * d.x - g.x, k * d.y - g.y, k * d.z - g.z};  // centre to the closest point
+  const float disc = radius * radius - (v.x * v.x + (v.y * v.y + v.z * v.z));
   if (!(disc >= 0.0f)) return std::nullopt;
-  const float c = dot(g, g) - radius * radius;
+  const float c = k * b - disc;  // |g|^2 - r^2, consistent with disc
   const float q = b + std::copysign(std::sqrt(a * disc), b);
   const float t0 = c / q;
-  const float t1 = q / a;
+  const float t1 = q * inv_a;
   // t0 is NaN only for 0/0 (origin on the sphere, tangent); both roots are then t1.
   const float near = t0 < t1 ? t0 : t1;
   const float far = t0 > t1 ? t0 : t1;

@@ -16,10 +16,18 @@
 
 #include "fused.hpp"
 #include "lane_reduce.hpp"
+#include "ordered.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
 
 namespace sphray::detail {
+
+// When roots() gives up on a batch none of whose lanes can hit. The brute-force loop meets
+// mostly batches far from the ray, which the cheap pre-test may_hit() skips; a tree's leaves
+// were reached because the ray meets their box, most pass any test, and the discriminant itself
+// is then the cheaper question (docs/kernel.md, "The SIMD algorithm"); the tree's branch-free
+// leaves ask nothing.
+enum class Skip { kNever, kAfterDisc, kPreTest };
 
 template <class A>
 struct SphereBatchKernel {
@@ -30,6 +38,7 @@ struct SphereBatchKernel {
   // What one ray contributes to every batch, computed once per ray.
   struct RaySetup {
     Floats ox, oy, oz, dx, dy, dz;
+    Floats ux, uy, uz;  // dir / |dir|, for may_hit only
     Floats a, inv_a, tmin;
     float tmax;
   };
@@ -50,8 +59,20 @@ struct SphereBatchKernel {
     const bool ok = finite(o.x) && finite(o.y) && finite(o.z) && finite(d.x) && finite(d.y) &&
                     finite(d.z) && ray.tmin < ray.tmax && a >= 0x1p-126f && finite(a);
     if (!ok) return false;
-    s = RaySetup{Floats(o.x), Floats(o.y), Floats(o.z),      Floats(d.x),      Floats(d.y),
-                 Floats(d.z), Floats(a),   Floats(1.0f / a), Floats(ray.tmin), ray.tmax};
+    const float inv_length = 1.0f / __builtin_sqrtf(a);
+    s = RaySetup{Floats(o.x),
+                 Floats(o.y),
+                 Floats(o.z),
+                 Floats(d.x),
+                 Floats(d.y),
+                 Floats(d.z),
+                 Floats(d.x * inv_length),
+                 Floats(d.y * inv_length),
+                 Floats(d.z * inv_length),
+                 Floats(a),
+                 Floats(1.0f / a),
+                 Floats(ray.tmin),
+                 ray.tmax};
     return true;
   }
 
@@ -76,38 +97,65 @@ struct SphereBatchKernel {
 
   // Per lane: the ray parameter t of the near root if it lies above tmin, else of the far root,
   // and whether the lane can hit at all. Returns false when no lane can: the caller skips the
-  // batch (one branch per batch, not per sphere). kEarlyExit = false computes the roots
-  // whatever the lanes and always returns true, for callers to whom that branch is a coin toss
-  // (the BVH on scattered rays).
+  // batch (one branch per batch, not per sphere), at the point kSkip says. Skip::kNever
+  // computes the roots whatever the lanes and always returns true, for callers to whom that
+  // branch is a coin toss (the BVH on scattered rays).
   //
   // Precision (Haines, Guenther, Akenine-Moeller, "Precision Improvements for Ray/Sphere
   // Intersection", Ray Tracing Gems ch. 7): with g = centre - origin (= -f), b' = g.d and
-  // c = g.g - r^2, the discriminant is taken in its perpendicular form r^2 - |b'/a d - g|^2,
+  // k = b'/a, the discriminant is taken in its perpendicular form disc = r^2 - |k d - g|^2,
   // which does not lose the small difference b'^2 - a c to cancellation, and the roots as
   // c/q and q/a with q = b' + sign(b') sqrt(a disc), which never subtracts nearly equal values.
-  template <bool kEarlyExit = true>
+  //
+  // c is not |g|^2 - r^2 but k b' - disc, its value in exact arithmetic, taken from the disc
+  // just computed: the roots are then k -+ sqrt(disc/a) up to a few roundings, two points of
+  // the line at squared distance |k d - g|^2 + disc = r^2 from the centre. Computed on its own,
+  // |g|^2 - r^2 carries a rounding error of u |g|^2 that disc does not share, and for an origin
+  // on the sphere and a ray leaving it tangentially (q tiny) c / q put "hits" tens of radii off
+  // the sphere (docs/kernel.md, "Where a hit can lie").
+  //
+  // No fused multiply-add, and every sum in one fixed order: every instruction set, and the
+  // scalar reference (scalar.cpp), make the same roundings and return the same bits.
+  template <Skip kSkip = Skip::kPreTest>
   static bool roots(const RaySetup& s, const Spheres& sp, Floats& t, Mask& live) {
     const Floats gx = sp.cx - s.ox, gy = sp.cy - s.oy, gz = sp.cz - s.oz;
-    using F = Fused<A>;
-    const Floats b = F::fma(gx, s.dx, F::fma(gy, s.dy, gz * s.dz));
+    if (kSkip == Skip::kPreTest && !may_hit(s, sp, gx, gy, gz)) return false;
+    const Floats b = gx * s.dx + (gy * s.dy + gz * s.dz);
     const Floats k = b * s.inv_a;
-    const Floats vx = F::fms(k, s.dx, gx), vy = F::fms(k, s.dy, gy), vz = F::fms(k, s.dz, gz);
-    const Floats r2 = sp.r * sp.r;
-    const Floats disc = r2 - F::fma(vx, vx, F::fma(vy, vy, vz * vz));
+    const Floats vx = k * s.dx - gx, vy = k * s.dy - gy, vz = k * s.dz - gz;
+    const Floats disc = sp.r * sp.r - (vx * vx + (vy * vy + vz * vz));
     // NaN and infinite sphere fields make disc NaN (infinite centre: inf - inf in v), which
-    // fails this test. Radius <= 0 needs its own, but it is rare, so it is paid only by the
-    // batches that pass the cheap one.
+    // fails the test; radius <= 0 needs its own.
     live = disc >= Floats(0.0f);
-    if (kEarlyExit && xsimd::none(live)) return false;
+    if (kSkip == Skip::kAfterDisc && xsimd::none(live)) return false;
     live = live & (sp.r > Floats(0.0f));
-    const Floats c = F::fma(gx, gx, F::fma(gy, gy, F::fms(gz, gz, r2)));
+    const Floats c = k * b - disc;
     const Floats q = b + xsimd::copysign(xsimd::sqrt(s.a * disc), b);
     const Floats t0 = c / q, t1 = q * s.inv_a;
-    // x86 min/max return the second operand if either is NaN: t0 is NaN only for 0/0 (origin on
-    // the sphere, tangent), and then both roots are t1.
-    const Floats near = xsimd::min(t0, t1), far = xsimd::max(t0, t1);
+    // t0 is NaN only for 0/0 (origin on the sphere, tangent), and then both roots are t1.
+    using O = Ordered<A>;
+    const Floats near = O::less_or_second(t0, t1), far = O::greater_or_second(t0, t1);
     t = xsimd::select(near > s.tmin, near, far);
     return true;
+  }
+
+  // False only if no lane of the batch can have disc >= 0 in roots(): a cheaper test that lets
+  // most batches of a scene be skipped, with fused operations where the instruction set has
+  // them (it decides no result, only which batches are computed). It compares the squared
+  // distance from the centre to the line, |g|^2 - (g.u)^2 with u the unit direction, against
+  // r^2 widened by kMayHitMargin (|g|^2 + r^2): that form cancels, but its error is below
+  // 19 u |g|^2, and roots()' disc errs by less than 13 u r^2 + 8 u |g|^2 (docs/kernel.md, "The
+  // SIMD algorithm"); kMayHitSlack covers underflow. NaN lanes pass.
+  static constexpr float kMayHitMargin = 64.0f * 0x1p-24f;
+  static constexpr float kMayHitSlack = 0x1p-120f;
+  static bool may_hit(const RaySetup& s, const Spheres& sp, const Floats& gx, const Floats& gy,
+                      const Floats& gz) {
+    using F = Fused<A>;
+    const Floats gg = F::fma(gx, gx, F::fma(gy, gy, gz * gz));
+    const Floats gu = F::fma(gx, s.ux, F::fma(gy, s.uy, gz * s.uz));
+    const Floats r2 = sp.r * sp.r;
+    const Floats bound = r2 + F::fma(Floats(kMayHitMargin), gg + r2, Floats(kMayHitSlack));
+    return !xsimd::all(F::fnma(gu, gu, gg) > bound);
   }
 
   // Batch index i's bits, kept in a float lane: select() moves bits, never does arithmetic.

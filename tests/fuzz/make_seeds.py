@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the kernel fuzzer's seed corpus (corpus/kernel/) in the byte format kernel_fuzzer.cpp
 decodes: a head byte (ray count, misalignment, padded view), a sphere count, the rays, the
-spheres, then the padding's radii. Run from tests/fuzz/; the output is committed."""
+spheres, the padding's radii, then per ray whether it starts on a sphere's surface. Run from tests/fuzz/; the output is committed."""
 import random
 import struct
 from pathlib import Path
@@ -34,9 +34,17 @@ def sphere(c, r):
     return out + (num(r) if isinstance(r, (int, float)) else r) + b"\x00"  # keep the sign
 
 
-def seed(rays, spheres, misalign=0, padded=False):
+def on_surface(sphere_index, tangent=False, tilt_exponent=None, inward=False):
+    """Moves a ray's origin onto a sphere, towards its decoded origin from the centre; tangent
+    turns its direction tangent there, tilted by 2^-tilt_exponent (out, or inward) if given."""
+    how = 1 | (2 if tangent else 0) | (4 if tilt_exponent is None else 0) | (8 if inward else 0)
+    return bytes([how, sphere_index]) + (bytes([tilt_exponent]) if tilt_exponent else b"")
+
+
+def seed(rays, spheres, misalign=0, padded=False, surface=()):
     head = (len(rays) - 1) | (misalign << 2) | (0x40 if padded else 0)
-    return bytes([head, len(spheres)]) + b"".join(rays) + b"".join(spheres) + bytes(16)
+    return (bytes([head, len(spheres)]) + b"".join(rays) + b"".join(spheres) + bytes(16) +
+            b"".join(surface))
 
 
 def main():
@@ -60,6 +68,14 @@ def main():
                           sphere((0, special("tiny"), -5), special("tiny")),
                           sphere((special("max"), 0, 0), special("max"))], misalign=7),
     }
+    # Issue 17: rays leaving a sphere of radius 0.1 tangentially from its surface, in a view of
+    # 33 (the others radius 0, so that the SIMD kernels run).
+    small = [sphere((0, 0, 0), 0.1)] + [sphere((0, 0, 0), 0)] * 32
+    seeds["grazing-from-surface"] = seed(
+        [ray((0, -1, 0), (1, 0, 0)), ray((0, -1, 0), (1, 0, 0)), ray((1, 1, 0), (1, -1, 2)),
+         ray((0, 1, 0), (3, 0, 1), 0)], small,
+        surface=[on_surface(0, True, 30), on_surface(0, True, 23), on_surface(0, True),
+                 on_surface(0, True, 20, inward=True)])
     rng = random.Random(20261122)
     for n in (7, 8, 9, 16, 17, 33, 40):
         spheres = [sphere([rng.uniform(-10, 10) for _ in range(3)], rng.uniform(0.3, 3))
@@ -67,6 +83,14 @@ def main():
         rays = [ray([rng.uniform(-12, 12) for _ in range(3)], [rng.uniform(-2, 2) for _ in range(3)])
                 for _ in range(4)]
         seeds[f"random-{n}"] = seed(rays, spheres, misalign=n % 16, padded=n % 2 == 1)
+    for n in (5, 17):
+        spheres = [sphere([rng.uniform(-10, 10) for _ in range(3)], rng.uniform(0.3, 3))
+                   for _ in range(n)]
+        rays = [ray([rng.uniform(-1, 1) for _ in range(3)], [rng.uniform(-2, 2) for _ in range(3)])
+                for _ in range(4)]
+        surface = [on_surface(rng.randrange(n), tangent=i > 0, tilt_exponent=rng.choice([None, 24, 12]))
+                   for i in range(4)]
+        seeds[f"surface-{n}"] = seed(rays, spheres, surface=surface)
     for name, data in seeds.items():
         (out / name).write_bytes(data)
 

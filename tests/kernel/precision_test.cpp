@@ -44,14 +44,6 @@ float log_uniform(std::mt19937& rng, float lo, float hi) {
   return std::exp(test::uniform(rng, std::log(lo), std::log(hi)));
 }
 
-Vec3 unit_vector(std::mt19937& rng) {
-  Vec3 v;
-  do {
-    v = test::random_in_box(rng, 1.0f);
-  } while (length_squared(v) < 1e-3f || length_squared(v) > 1.0f);
-  return normalize(v);
-}
-
 struct Case {
   Vec3 center;
   float radius;
@@ -67,9 +59,9 @@ Case random_case(std::mt19937& rng) {
   const bool inside = rng() % 4 == 0;
   const float gap = inside ? log_uniform(rng, 1e-3f, 0.999f) : log_uniform(rng, 1e-3f, 1e4f);
   const float dist = k.radius * (inside ? 1.0f - gap : 1.0f + gap);
-  const Vec3 origin = k.center + dist * unit_vector(rng);
+  const Vec3 origin = k.center + dist * test::unit_vector(rng);
   const Vec3 target =
-      k.center + 1.5f * k.radius * test::uniform(rng, 0.0f, 1.0f) * unit_vector(rng);
+      k.center + 1.5f * k.radius * test::uniform(rng, 0.0f, 1.0f) * test::unit_vector(rng);
   const float scale = log_uniform(rng, 1e-2f, 1e2f);
   k.ray = Ray{origin, normalize(target - origin) * scale};
   return k;

@@ -82,6 +82,15 @@ inline Vec3 random_direction(std::mt19937& rng) {
   return normalize(d) * std::exp(uniform(rng, std::log(0.1f), std::log(10.0f)));
 }
 
+// A direction uniform on the unit sphere.
+inline Vec3 unit_vector(std::mt19937& rng) {
+  Vec3 v;
+  do {
+    v = random_in_box(rng, 1.0f);
+  } while (length_squared(v) < 1e-3f || length_squared(v) > 1.0f);
+  return normalize(v);
+}
+
 // n spheres in a box of half-size 10 whose radii make about half the rays hit something.
 template <class Store>
 void fill_random(Store& store, std::size_t n, std::mt19937& rng) {
