@@ -205,9 +205,34 @@ INSTANTIATE_TEST_SUITE_P(
         Refusal{"UnknownKey", "render -s DIR/bad.json",
                 std::string("{\"spheres\": [") + kSphere + "], \"lights\": []}", 2,
                 "sphray: DIR/bad.json:1:54: expected one of the keys name, camera, spheres, "
-                "width, height in the scene, got unknown key \"lights\""},
+                "width, height, sky in the scene, got unknown key \"lights\""},
+        Refusal{"UnknownMaterial", "render -s DIR/bad.json",
+                "{\"spheres\": [\n  {\"center\": [0,0,-1], \"radius\": 0.5, \"material\": "
+                "{\"type\": \"plastic\"}}\n]}",
+                2,
+                "sphray: DIR/bad.json:2:60: expected \"type\" to be \"lambertian\", \"metal\" or "
+                "\"dielectric\", got \"plastic\""},
+        Refusal{"AlbedoAboveOne", "render -s DIR/bad.json",
+                "{\"spheres\": [{\"center\": [0,0,-1], \"radius\": 0.5, \"material\": "
+                "{\"type\": \"metal\", \"albedo\": [1, 1.01, 1]}}]}",
+                2, "sphray: DIR/bad.json:1:94: expected \"albedo\" components in [0, 1]"},
+        Refusal{"NegativeFuzz", "render -s DIR/bad.json",
+                "{\"spheres\": [{\"center\": [0,0,-1], \"radius\": 0.5, \"material\": "
+                "{\"type\": \"metal\", \"fuzz\": -1}}]}",
+                2, "sphray: DIR/bad.json:1:88: expected \"fuzz\" in [0, 1], got -1"},
+        Refusal{"ZeroIor", "render -s DIR/bad.json",
+                "{\"spheres\": [{\"center\": [0,0,-1], \"radius\": 0.5, \"material\": "
+                "{\"type\": \"dielectric\", \"ior\": 0}}]}",
+                2, "sphray: DIR/bad.json:1:92: expected \"ior\" to be positive, got 0"},
+        Refusal{"NaNIor", "render -s DIR/bad.json",
+                "{\"spheres\": [{\"center\": [0,0,-1], \"radius\": 0.5, \"material\": "
+                "{\"type\": \"dielectric\", \"ior\": NaN}}]}",
+                2,
+                "sphray: DIR/bad.json:1:92: expected valid JSON (syntax error while parsing value "
+                "- invalid literal; last read: '\"ior\": N')"},
         Refusal{"UnknownMode", "render -m glossy", "", 2,
-                "sphray: --mode: glossy not in {normals,flat,depth,id,shaded} (see sphray --help)"},
+                "sphray: --mode: glossy not in {normals,flat,depth,id,shaded} (see sphray "
+                "--help)"},
         Refusal{"UnknownAccel", "render --accel kd-tree", "", 2,
                 "sphray: --accel: kd-tree not in {auto,bvh,brute} (see sphray --help)"},
         Refusal{"ZeroWidth", "render -W 0", "", 2,
