@@ -2,7 +2,6 @@
 
 #include <array>
 #include <cmath>
-#include <numbers>
 
 namespace sphray::render {
 namespace {
@@ -61,11 +60,17 @@ PathRandom::PathRandom(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sa
                  ((std::uint64_t{sample} << 32) | bounce))) {}
 
 Vec3 PathRandom::unit_vector() {
-  // Archimedes: z uniform in [-1, 1] and a uniform angle around it are uniform on the sphere.
-  const float z = 1.0f - 2.0f * uniform();
-  const float phi = 2.0f * std::numbers::pi_v<float> * uniform();
-  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-  return {r * std::cos(phi), r * std::sin(phi), z};
+  // Marsaglia (1972): (u, v) uniform in the unit disk by rejection (accepted with probability
+  // pi/4), s = u^2 + v^2, then (2u sqrt(1 - s), 2v sqrt(1 - s), 1 - 2s) is uniform on the
+  // sphere; one square root and no trigonometry, a third of the sampling's cost with sincos.
+  for (;;) {
+    const float u = 2.0f * uniform() - 1.0f;
+    const float v = 2.0f * uniform() - 1.0f;
+    const float s = u * u + v * v;
+    if (s >= 1.0f) continue;
+    const float scale = 2.0f * std::sqrt(1.0f - s);
+    return {u * scale, v * scale, 1.0f - 2.0f * s};
+  }
 }
 
 Vec3 refract(Vec3 v, Vec3 n, float eta) {
