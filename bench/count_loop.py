@@ -5,7 +5,7 @@
 
 Disassembles (objdump -d) each per-ISA kernel object in BUILD_DIR
 (kernel/CMakeFiles/sphray_kernel.dir/src/isa_*.cpp.o), finds the loop over sphere batches of
-SphereBatchKernel<A>::intersect (the loop whose pass holds per-batch early-out tests: a mask
+BruteForce<A>::intersect (the loop whose pass holds per-batch early-out tests: a mask
 test and a branch), follows one pass of it twice, once with every batch skipped (no lane's
 discriminant non-negative) and once with every batch live, classifies every instruction, and prints per ISA a bound for each path from its
 busiest resource. --write stores the result in bench/kernel_bounds.json, which report.py puts
@@ -54,11 +54,11 @@ def disassemble(obj):
 
 
 def intersect_body(text):
-    """The instructions of SphereBatchKernel<A>::intersect as (address, mnemonic, operands)."""
+    """The instructions of BruteForce<A>::intersect as (address, mnemonic, operands)."""
     body, inside = [], False
     for line in text.splitlines():
         if line.endswith(">:"):
-            inside = "SphereBatchKernel<" in line and ">::intersect(" in line
+            inside = "BruteForce<" in line and ">::intersect(" in line
             continue
         m = LINE.match(line) if inside else None
         if m:

@@ -2,7 +2,7 @@
 // instruction set has a fused multiply-add. Class template over A, like everything the per-ISA
 // units include.
 //
-// Only tests that decide no result use them (the batch pre-test SphereBatchKernel::may_hit):
+// Only tests that decide no result use them (the batch pre-test SphereLanes::may_hit):
 // the roots are computed without fused operations, so that every instruction set and the
 // scalar reference make the same roundings. xsimd 8.1 has no AVX-512 fma: its generic fallback
 // is a * b + c, which a compiler contracts to one instruction or not depending on what it
@@ -17,7 +17,9 @@
 #include <immintrin.h>
 #endif
 
-namespace sphray::detail {
+#include "simd/isa_namespace.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
 template <class A>
 struct Fused {
@@ -46,4 +48,4 @@ struct Fused {
   }
 };
 
-}  // namespace sphray::detail
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

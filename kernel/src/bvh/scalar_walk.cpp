@@ -1,35 +1,37 @@
-#include "bvh_scalar.hpp"
+#include "bvh/scalar_walk.hpp"
 
-#include <bit>
 #include <cmath>
 #include <cstdint>
 
+#include "brute/validity.hpp"
+#include "bvh/node.hpp"
+#include "bvh/robust_slab.hpp"
 #include "sphray/query.hpp"
-#include "validity.hpp"
 
 namespace sphray::detail {
 namespace {
 
-// See BvhTraversal: Ize's conservative slab test, 1 + 2 gamma(3).
-constexpr float kExitScale = 1.0f + 2.0f * (3.0f * 0x1p-24f / (1.0f - 3.0f * 0x1p-24f));
+using Node = SPHRAY_ISA_NAMESPACE::NodeView<const float>;
+using SPHRAY_ISA_NAMESPACE::ChildRef;
+using SPHRAY_ISA_NAMESPACE::kEntryScale;
+using SPHRAY_ISA_NAMESPACE::kExitScale;
 
 // Whether ray (valid) enters the box of child k of node before tmax: a slab whose distances
 // are NaN (a zero direction component with the origin on a plane) does not bound the ray.
-bool enters(const float* node, std::size_t w, std::size_t k, const Ray& ray, float tmax) {
+bool enters(const Node& node, std::size_t k, const Ray& ray, float tmax) {
   float tnear = ray.tmin, tfar = INFINITY;
   for (int axis = 0; axis < 3; ++axis) {
     const float o = ray.origin[axis], inv = 1.0f / ray.dir[axis];
-    float t0 = (node[(2 * axis) * w + k] - o) * inv;
-    float t1 = (node[(2 * axis + 1) * w + k] - o) * inv;
+    float t0 = (node.lo(axis, k) - o) * inv;
+    float t1 = (node.hi(axis, k) - o) * inv;
     if (std::signbit(ray.dir[axis])) std::swap(t0, t1);
     if (t0 > tnear) tnear = t0;
     if (t1 < tfar) tfar = t1;
   }
   // Widened by 2 gamma(3) of each end's magnitude: scaling tfar alone is conservative only for
   // tfar >= 0, and a negative tmin lets the ray meet boxes behind its origin.
-  constexpr float kShrink = 1.0f - (kExitScale - 1.0f);
-  tnear *= tnear >= 0.0f ? kShrink : kExitScale;
-  tfar *= tfar >= 0.0f ? kExitScale : kShrink;
+  tnear *= tnear >= 0.0f ? kEntryScale : kExitScale;
+  tfar *= tfar >= 0.0f ? kExitScale : kEntryScale;
   return tnear <= tfar && tnear <= tmax;
 }
 
@@ -42,20 +44,18 @@ void visit(const BvhData& bvh, const Ray& ray, const float& tmax, Leaf&& leaf) {
   // far outside the node array.
   if (bvh.node_count == 0 || !valid_ray(ray)) return;
   const std::size_t w = bvh.width;
-  std::uint32_t stack[kBvhMaxDepth * (kScalarBvhWidth - 1) + 1];
+  ChildRef stack[kBvhMaxDepth * (kScalarBvhWidth - 1) + 1];
   std::size_t top = 0;
-  stack[top++] = 0;
+  stack[top++] = ChildRef::node(0);
   while (top > 0) {
-    const std::uint32_t ref = stack[--top];
-    if (ref & kBvhLeafBit) {
-      const std::size_t first = ref & kBvhLeafFirstMask & ~(w - 1);
-      if (leaf(first, (ref & (w - 1)) + 1)) return;
+    const ChildRef ref = stack[--top];
+    if (ref.is_leaf()) {
+      if (leaf(ref.first(w), ref.count(w))) return;
       continue;
     }
-    const float* node = bvh.nodes + std::size_t{ref} * kBvhNodeRows * w;
+    const Node node(bvh.nodes, ref.node_index(), w);
     for (std::size_t k = 0; k < w; ++k)
-      if (enters(node, w, k, ray, tmax))
-        stack[top++] = std::bit_cast<std::uint32_t>(node[6 * w + k]);
+      if (enters(node, k, ray, tmax)) stack[top++] = node.ref(k);
   }
 }
 
@@ -84,8 +84,7 @@ Hit scalar_bvh_intersect(const BvhData& bvh, const Ray& ray) {
       // smaller t, and on equal t the lower id.
       const Hit h = scalar::intersect(one_sphere(bvh.spheres, i), ray);
       if (!h.found()) continue;
-      const std::uint32_t id = bvh.ids[i];
-      if (h.t < best.t || (h.t == best.t && id < best.id)) best = {h.t, id};
+      SPHRAY_ISA_NAMESPACE::keep_closer(best, h.t, bvh.ids[i]);
     }
     return false;
   });

@@ -9,8 +9,9 @@
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #endif
 
-#include "kernel_entries.hpp"
+#include "dispatch/entry_points.hpp"
 
 namespace sphray::detail {
-constinit const Kernel kAvx512Kernel = make_kernel<xsimd::avx512f>(Isa::avx512);
+constinit const Kernel kAvx512Kernel =
+    SPHRAY_ISA_NAMESPACE::make_kernel<xsimd::avx512f>(Isa::avx512);
 }

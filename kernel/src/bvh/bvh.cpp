@@ -3,7 +3,7 @@
 
 #include <stdexcept>
 
-#include "bvh_build.hpp"
+#include "bvh/build.hpp"
 
 namespace sphray {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "size_policy.hpp"
+#include "dispatch/size_policy.hpp"
 #include "sphray/isa.hpp"
 
 namespace sphray {

@@ -1,6 +1,6 @@
 // The contract's tests for rays and spheres that miss everything, shared by the scalar code
-// paths and the BVH builder (the SIMD kernel has its own copy in SphereBatchKernel: per-ISA units
-// call no shared inline code).
+// paths and the BVH builder. The SIMD kernel has its own copy in SphereLanes::setup: these call
+// the public headers' inline functions, which per-ISA units must not (simd/isa_namespace.hpp).
 #pragma once
 
 #include <cmath>

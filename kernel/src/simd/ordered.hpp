@@ -9,7 +9,9 @@
 
 #include <xsimd/xsimd.hpp>
 
-namespace sphray::detail {
+#include "simd/isa_namespace.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
 template <class A>
 struct Ordered {
@@ -32,4 +34,4 @@ struct Ordered {
   }
 };
 
-}  // namespace sphray::detail
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -1,26 +1,22 @@
-// The sphere kernel, written once over an xsimd architecture A: one ray against a batch of
-// batch<float, A>::size spheres per step. Each per-ISA translation unit includes this header
-// and instantiates it with its own A (see docs/kernel.md, "Dispatch").
-//
-// Everything here is a member of a class template over A, so two units compiled with different
-// flags never emit a function under the same symbol name for the linker to merge. For the same
-// reason this header calls no non-template inline function of the public headers or of the
-// standard library: only builtins and xsimd, whose code is templated on A as well.
+// One ray against the spheres in the lanes of one SIMD register, written once over an xsimd
+// architecture A: kWidth = batch<float, A>::size spheres per step (4 for SSE4.2 and NEON, 8
+// for AVX2, 16 for AVX-512). The roots and the batch pre-test; brute_force.hpp loops this over
+// a view, the tree's leaf test (bvh/leaf_test.hpp) over a leaf. Each per-ISA unit compiles it
+// into its own namespace (simd/isa_namespace.hpp) and calls only builtins and xsimd.
 #pragma once
 
-#include <bit>
 #include <cstddef>
 #include <cstdint>
 
 #include <xsimd/xsimd.hpp>
 
-#include "fused.hpp"
-#include "lane_reduce.hpp"
-#include "ordered.hpp"
+#include "simd/fused.hpp"
+#include "simd/isa_namespace.hpp"
+#include "simd/ordered.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
 
-namespace sphray::detail {
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
 // When roots() gives up on a batch none of whose lanes can hit. The brute-force loop meets
 // mostly batches far from the ray, which the cheap pre-test may_hit() skips; a tree's leaves
@@ -30,7 +26,7 @@ namespace sphray::detail {
 enum class Skip { kNever, kAfterDisc, kPreTest };
 
 template <class A>
-struct SphereBatchKernel {
+struct SphereLanes {
   using Floats = xsimd::batch<float, A>;
   using Mask = xsimd::batch_bool<float, A>;
   static constexpr std::size_t kWidth = Floats::size;
@@ -130,7 +126,7 @@ struct SphereBatchKernel {
     if (kSkip == Skip::kAfterDisc && xsimd::none(live)) return false;
     live = live & (sp.r > Floats(0.0f));
     const Floats c = k * b - disc;
-    const Floats q = b + xsimd::copysign(xsimd::sqrt(s.a * disc), b);
+    const Floats q = b + with_sign_of(xsimd::sqrt(s.a * disc), b);
     const Floats t0 = c / q, t1 = q * s.inv_a;
     // t0 is NaN only for 0/0 (origin on the sphere, tangent), and then both roots are t1.
     using O = Ordered<A>;
@@ -158,78 +154,10 @@ struct SphereBatchKernel {
     return !xsimd::all(F::fnma(gu, gu, gg) > bound);
   }
 
-  // Batch index i's bits, kept in a float lane: select() moves bits, never does arithmetic.
-  static Floats index_bits(std::uint32_t i) { return Floats(std::bit_cast<float>(i)); }
-
-  // The horizontal step, once per ray: the smallest t over the lanes, then the lowest id among
-  // the lanes that hold it (a lane's id is its batch index * width + lane). Branch-free: which
-  // lanes hit is random, and a data-dependent loop over them mispredicts on most rays.
-  static Hit reduce(const Floats& best_t, const Floats& best_batch, float tmax) {
-    using Reduce = LaneReduce<A>;
-    using Uints = xsimd::batch<std::uint32_t, A>;
-    const Floats min_t = Reduce::template all_min<float>(best_t);
-    const Uints ids =
-        (xsimd::bitwise_cast<Uints>(best_batch) * Uints(kWidth)) + Reduce::lane_index();
-    // Lanes that never hit hold t == tmax: they are left out unless no lane hit, and that case
-    // is answered below without their ids.
-    const Floats candidates =
-        xsimd::select(best_t == min_t, xsimd::bitwise_cast<Floats>(ids), index_bits(kNoHit));
-    const std::uint32_t id =
-        Reduce::template all_min<std::uint32_t>(xsimd::bitwise_cast<Uints>(candidates)).get(0);
-    const float t = min_t.get(0);
-    return t < tmax ? Hit{t, id} : Hit{tmax, kNoHit};
-  }
-
-  // Batches that can be read whole: all of them if the view promises padding.
-  static std::size_t whole_batches(const SphereView& v) {
-    const std::size_t rounded = (v.count + kWidth - 1) / kWidth;
-    return v.padded_count >= rounded * kWidth ? rounded : v.count / kWidth;
-  }
-
-  // Ids are 32-bit with kNoHit reserved: a larger view is read as its first 2^32 - 1 spheres.
-  static SphereView clamp(SphereView v) {
-    if (v.count > kNoHit) v.count = kNoHit;
-    return v;
-  }
-
-  static Hit intersect(SphereView v, const Ray& ray) {
-    RaySetup s;
-    if (!setup(ray, s)) return {ray.tmax, kNoHit};
-    v = clamp(v);
-    Floats best_t(s.tmax);
-    Floats best_batch = index_bits(kNoHit);
-    // Strict < keeps the earlier batch (lower id) in a lane on equal t.
-    auto keep = [&](const Spheres& sp, std::uint32_t batch) {
-      Floats t;
-      Mask live;
-      if (!roots(s, sp, t, live)) return;
-      const Mask hit = live & (t > s.tmin) & (t < best_t);
-      best_t = xsimd::select(hit, t, best_t);
-      best_batch = xsimd::select(hit, index_bits(batch), best_batch);
-    };
-    const std::size_t whole = whole_batches(v);
-    for (std::size_t b = 0; b < whole; ++b)
-      keep(load(v, b * kWidth), static_cast<std::uint32_t>(b));
-    if (whole * kWidth < v.count)
-      keep(load_tail(v, whole * kWidth), static_cast<std::uint32_t>(whole));
-    return reduce(best_t, best_batch, ray.tmax);
-  }
-
-  static bool occluded(SphereView v, const Ray& ray) {
-    RaySetup s;
-    if (!setup(ray, s)) return false;
-    v = clamp(v);
-    const Floats tmax(s.tmax);
-    auto any_hit = [&](const Spheres& sp) {
-      Floats t;
-      Mask live;
-      return roots(s, sp, t, live) && xsimd::any(live & (t > s.tmin) & (t < tmax));
-    };
-    const std::size_t whole = whole_batches(v);
-    for (std::size_t b = 0; b < whole; ++b)
-      if (any_hit(load(v, b * kWidth))) return true;
-    return whole * kWidth < v.count && any_hit(load_tail(v, whole * kWidth));
-  }
+  // copysign(x, b) for x >= 0 (a square root; in a lane that cannot hit, any value), written
+  // out: xsimd's copysign calls a function templated on float only, one symbol for every unit
+  // (simd/isa_namespace.hpp).
+  static Floats with_sign_of(const Floats& x, const Floats& b) { return x | (b & Floats(-0.0f)); }
 };
 
-}  // namespace sphray::detail
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -1,4 +1,4 @@
-#include "cpu.hpp"
+#include "dispatch/cpu.hpp"
 
 #include <cstdint>
 

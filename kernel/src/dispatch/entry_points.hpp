@@ -1,27 +1,29 @@
-// The entry points of one instruction set's kernel, built from SphereBatchKernel<A>. A per-ISA
-// unit includes this and defines its Kernel table with make_kernel<A>(isa).
+// The entry points of one instruction set, built from BruteForce<A> and the tree's walk over A.
+// A per-ISA unit includes this and defines its table with make_kernel<A>(isa).
 #pragma once
 
 #include <cstddef>
 
-#include "bvh_scalar.hpp"
-#include "bvh_traverse.hpp"
-#include "kernel_table.hpp"
-#include "size_policy.hpp"
-#include "sphere_batch.hpp"
+#include "brute/brute_force.hpp"
+#include "bvh/scalar_walk.hpp"
+#include "bvh/stream.hpp"
+#include "bvh/traverse.hpp"
+#include "dispatch/entry_table.hpp"
+#include "dispatch/size_policy.hpp"
+#include "simd/isa_namespace.hpp"
 #include "sphray/query.hpp"
 
-namespace sphray::detail {
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
 template <class A>
-struct KernelEntries {
-  using Batch = SphereBatchKernel<A>;
+struct EntryPoints {
+  using Brute = BruteForce<A>;
 
   static Hit intersect(SphereView v, const Ray& ray) {
-    return v.count < kScalarBelow ? scalar::intersect(v, ray) : Batch::intersect(v, ray);
+    return v.count < kScalarBelow ? scalar::intersect(v, ray) : Brute::intersect(v, ray);
   }
   static bool occluded(SphereView v, const Ray& ray) {
-    return v.count < kScalarBelow ? scalar::occluded(v, ray) : Batch::occluded(v, ray);
+    return v.count < kScalarBelow ? scalar::occluded(v, ray) : Brute::occluded(v, ray);
   }
   static void intersect_stream(SphereView v, const Ray* rays, Hit* hits, std::size_t n) {
     if (v.count < kScalarBelow) {
@@ -30,7 +32,7 @@ struct KernelEntries {
       return;
     }
     for (std::size_t i = 0; i < n; ++i)
-      hits[i] = Batch::intersect(v, rays[i]);
+      hits[i] = Brute::intersect(v, rays[i]);
   }
 
   // A tree over so few spheres takes the scalar path too, so that it returns exactly what the
@@ -44,15 +46,15 @@ struct KernelEntries {
   }
   static void bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
     if (bvh.count < kScalarBelow) return scalar_bvh_intersect_stream(bvh, rays, hits, n);
-    Tree::intersect_stream(bvh, rays, hits, n);
+    TreeStream<A>::intersect_stream(bvh, rays, hits, n);
   }
 };
 
 template <class A>
 constexpr Kernel make_kernel(Isa isa) {
-  using E = KernelEntries<A>;
+  using E = EntryPoints<A>;
   return {isa,
-          E::Batch::kWidth,
+          E::Brute::kWidth,
           &E::intersect,
           &E::occluded,
           &E::intersect_stream,
@@ -62,4 +64,4 @@ constexpr Kernel make_kernel(Isa isa) {
           &E::bvh_intersect_stream};
 }
 
-}  // namespace sphray::detail
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -38,14 +38,15 @@ struct BvhArrays {
   std::size_t memory_bytes() const;
 };
 
-/// Child reference of a node slot that holds nothing (its box is empty).
-inline constexpr std::uint32_t kBvhEmptySlot = 0x7fffffffu;
-
 /// Builds the tree over spheres for nodes of width children and leaves of at most width
 /// spheres. Throws std::length_error past 2^31 spheres.
 BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions& options);
 
 /// Copies the moved spheres into the tree's leaf order and recomputes every box bottom-up.
 void refit_bvh(BvhArrays& tree, SphereView spheres);
+
+/// The leaf boxes' summed volume over the root box's (BvhArrays::leaf_overlap), from the
+/// written nodes.
+float measure_leaf_overlap(const BvhArrays& tree);
 
 }  // namespace sphray::detail

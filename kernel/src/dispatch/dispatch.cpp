@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "cpu.hpp"
-#include "kernel_table.hpp"
-#include "size_policy.hpp"
+#include "dispatch/cpu.hpp"
+#include "dispatch/entry_table.hpp"
+#include "dispatch/size_policy.hpp"
 #include "sphray/isa.hpp"
 
 namespace sphray {

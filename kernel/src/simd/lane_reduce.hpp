@@ -12,7 +12,9 @@
 #include <immintrin.h>  // the mask move of each width, whatever this unit's flags
 #endif
 
-namespace sphray::detail {
+#include "simd/isa_namespace.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
 template <class A>
 struct LaneReduce {
@@ -108,4 +110,4 @@ struct LaneReduce {
   }
 };
 
-}  // namespace sphray::detail
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

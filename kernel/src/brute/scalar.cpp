@@ -4,10 +4,10 @@
 #include <cmath>
 #include <optional>
 
-#include "bvh_scalar.hpp"
-#include "kernel_table.hpp"
+#include "brute/validity.hpp"
+#include "bvh/scalar_walk.hpp"
+#include "dispatch/entry_table.hpp"
 #include "sphray/query.hpp"
-#include "validity.hpp"
 
 namespace sphray::detail {
 bool valid_ray(const Ray& ray) {
@@ -24,8 +24,8 @@ using detail::valid_ray;
 using detail::valid_sphere;
 
 // The ray parameter at which ray enters the sphere, or leaves it if it starts inside, when that
-// lies in (tmin, tmax). The same operations in the same order as SphereBatchKernel::roots, which
-// explains the method: every instruction set returns these bits.
+// lies in (tmin, tmax). The same operations in the same order as SphereLanes::roots
+// (brute/sphere_lanes.hpp), which explains the method: every instruction set returns these bits.
 std::optional<float> sphere_hit(Vec3 center, float radius, const Ray& ray, float tmax) {
   if (!valid_sphere(center, radius)) return std::nullopt;
   const Vec3 d = ray.dir;

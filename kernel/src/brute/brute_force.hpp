@@ -1,0 +1,102 @@
+// The brute-force queries over a SphereView, written once over an xsimd architecture A: the
+// view a batch of SphereLanes<A> at a time, the closest hit kept per lane and reduced across
+// the lanes once per ray (docs/kernel.md, "The SIMD algorithm").
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "brute/sphere_lanes.hpp"
+#include "simd/isa_namespace.hpp"
+#include "simd/lane_reduce.hpp"
+#include "sphray/ray.hpp"
+#include "sphray/spheres.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
+
+template <class A>
+struct BruteForce {
+  using Lanes = SphereLanes<A>;
+  using Floats = typename Lanes::Floats;
+  using Mask = typename Lanes::Mask;
+  using RaySetup = typename Lanes::RaySetup;
+  using Spheres = typename Lanes::Spheres;
+  static constexpr std::size_t kWidth = Lanes::kWidth;
+
+  // Batch index i's bits, kept in a float lane: select() moves bits, never does arithmetic.
+  static Floats index_bits(std::uint32_t i) { return Floats(__builtin_bit_cast(float, i)); }
+
+  // The horizontal step, once per ray: the smallest t over the lanes, then the lowest id among
+  // the lanes that hold it (a lane's id is its batch index * width + lane). Branch-free: which
+  // lanes hit is random, and a data-dependent loop over them mispredicts on most rays.
+  static Hit reduce(const Floats& best_t, const Floats& best_batch, float tmax) {
+    using Reduce = LaneReduce<A>;
+    using Uints = xsimd::batch<std::uint32_t, A>;
+    const Floats min_t = Reduce::template all_min<float>(best_t);
+    const Uints ids =
+        (xsimd::bitwise_cast<Uints>(best_batch) * Uints(kWidth)) + Reduce::lane_index();
+    // Lanes that never hit hold t == tmax: they are left out unless no lane hit, and that case
+    // is answered below without their ids.
+    const Floats candidates =
+        xsimd::select(best_t == min_t, xsimd::bitwise_cast<Floats>(ids), index_bits(kNoHit));
+    const std::uint32_t id =
+        Reduce::template all_min<std::uint32_t>(xsimd::bitwise_cast<Uints>(candidates)).get(0);
+    const float t = min_t.get(0);
+    return t < tmax ? Hit{t, id} : Hit{tmax, kNoHit};
+  }
+
+  // Batches that can be read whole: all of them if the view promises padding.
+  static std::size_t whole_batches(const SphereView& v) {
+    const std::size_t rounded = (v.count + kWidth - 1) / kWidth;
+    return v.padded_count >= rounded * kWidth ? rounded : v.count / kWidth;
+  }
+
+  // Ids are 32-bit with kNoHit reserved: a larger view is read as its first 2^32 - 1 spheres.
+  static SphereView clamp(SphereView v) {
+    if (v.count > kNoHit) v.count = kNoHit;
+    return v;
+  }
+
+  static Hit intersect(SphereView v, const Ray& ray) {
+    RaySetup s;
+    if (!Lanes::setup(ray, s)) return {ray.tmax, kNoHit};
+    v = clamp(v);
+    Floats best_t(s.tmax);
+    Floats best_batch = index_bits(kNoHit);
+    // Strict < keeps the earlier batch (lower id) in a lane on equal t.
+    auto keep = [&](const Spheres& sp, std::uint32_t batch) {
+      Floats t;
+      Mask live;
+      if (!Lanes::roots(s, sp, t, live)) return;
+      const Mask hit = live & (t > s.tmin) & (t < best_t);
+      best_t = xsimd::select(hit, t, best_t);
+      best_batch = xsimd::select(hit, index_bits(batch), best_batch);
+    };
+    const std::size_t whole = whole_batches(v);
+    for (std::size_t b = 0; b < whole; ++b)
+      keep(Lanes::load(v, b * kWidth), static_cast<std::uint32_t>(b));
+    if (whole * kWidth < v.count)
+      keep(Lanes::load_tail(v, whole * kWidth), static_cast<std::uint32_t>(whole));
+    return reduce(best_t, best_batch, ray.tmax);
+  }
+
+  static bool occluded(SphereView v, const Ray& ray) {
+    RaySetup s;
+    if (!Lanes::setup(ray, s)) return false;
+    v = clamp(v);
+    const Floats tmax(s.tmax);
+    auto any_hit = [&](const Spheres& sp) {
+      Floats t;
+      Mask live;
+      return Lanes::roots(s, sp, t, live) && xsimd::any(live & (t > s.tmin) & (t < tmax));
+    };
+    const std::size_t whole = whole_batches(v);
+    for (std::size_t b = 0; b < whole; ++b)
+      if (any_hit(Lanes::load(v, b * kWidth))) return true;
+    return whole * kWidth < v.count && any_hit(Lanes::load_tail(v, whole * kWidth));
+  }
+};
+
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

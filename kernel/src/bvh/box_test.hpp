@@ -1,0 +1,148 @@
+// The SIMD walk's box test, written once over an xsimd architecture A: one ray against the
+// kWidth children boxes of a node per step, and the order in which the entered children are
+// visited. A NaN slab distance (0 * inf) leaves the interval as it was, through
+// Ordered<A>'s NaN rule: the slab is treated as unbounded, which is conservative.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "bvh/node.hpp"
+#include "bvh/robust_slab.hpp"
+#include "simd/isa_namespace.hpp"
+#include "simd/lane_reduce.hpp"
+#include "simd/ordered.hpp"
+#include "sphray/bvh.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
+
+template <class A>
+struct BoxTest {
+  using Floats = xsimd::batch<float, A>;
+  using Mask = xsimd::batch_bool<float, A>;
+  static constexpr std::size_t kWidth = Floats::size;
+  using Node = NodeView<const float>;
+  // A node visit leaves at most kWidth - 1 entries above its ancestors' (one child is visited
+  // next), and writes at most one slot past them: kBvhMaxDepth levels fit in this.
+  static constexpr std::size_t kStackSize = kBvhMaxDepth * (kWidth - 1) + 1;
+
+  // What one ray contributes to every node. near[axis] is the offset (in batches of a node's
+  // box arrays) of the plane the ray meets first on that axis: lo for a positive direction, hi
+  // for a negative one. An empty box (lo = +inf, hi = -inf) is then never entered.
+  struct NodeSetup {
+    Floats ox, oy, oz, inv_dx, inv_dy, inv_dz, tmin;
+    std::size_t near_x, near_y, near_z;
+  };
+
+  struct StackEntry {
+    ChildRef ref;
+    float tnear;
+  };
+
+  static NodeSetup node_setup(const Ray& ray) {
+    const Vec3& o = ray.origin;
+    const Vec3& d = ray.dir;
+    // A zero component gives an infinite inverse; its slab then yields +-inf, or NaN where the
+    // origin lies exactly on a plane, and the NaN is ignored below.
+    return {Floats(o.x),
+            Floats(o.y),
+            Floats(o.z),
+            Floats(1.0f / d.x),
+            Floats(1.0f / d.y),
+            Floats(1.0f / d.z),
+            Floats(ray.tmin),
+            __builtin_signbit(d.x) ? 1u : 0u,
+            __builtin_signbit(d.y) ? 3u : 2u,
+            __builtin_signbit(d.z) ? 5u : 4u};
+  }
+
+  static Floats plane(const Node& node, std::size_t row) {
+    return Floats::load_aligned(node.plane_row(row));
+  }
+
+  // Rays with tmin >= 0 and direction components of normal magnitude, whose inverses are
+  // finite: no slab distance can be NaN (that needs 0 * inf) and every entered box starts at
+  // tnear >= 0. Nearly every ray is one (camera and scattered rays start at tmin = 0 or an
+  // epsilon), and for them the box test below needs no NaN-ordered min/max chain and no sign
+  // selects.
+  static bool ahead(const Ray& ray) {
+    constexpr float kNormal = 0x1p-126f;  // 1 / kNormal = 2^126 is finite
+    return ray.tmin >= 0.0f && __builtin_fabsf(ray.dir.x) >= kNormal &&
+           __builtin_fabsf(ray.dir.y) >= kNormal && __builtin_fabsf(ray.dir.z) >= kNormal;
+  }
+
+  // The children whose boxes the ray enters before best_t, and where it enters them. kAhead:
+  // the ray passed ahead(); both forms return the same mask and tnear for such a ray.
+  template <bool kAhead>
+  static Mask enter_children(const NodeSetup& s, const Node& node, const Floats& best_t,
+                             Floats& tnear) {
+    const Floats near_x = (plane(node, s.near_x) - s.ox) * s.inv_dx;
+    const Floats near_y = (plane(node, s.near_y) - s.oy) * s.inv_dy;
+    const Floats near_z = (plane(node, s.near_z) - s.oz) * s.inv_dz;
+    const Floats far_x = (plane(node, s.near_x ^ 1u) - s.ox) * s.inv_dx;
+    const Floats far_y = (plane(node, s.near_y ^ 1u) - s.oy) * s.inv_dy;
+    const Floats far_z = (plane(node, s.near_z ^ 1u) - s.oz) * s.inv_dz;
+    const Floats shrink(kEntryScale), grow(kExitScale);
+    Floats tfar_widened;
+    if constexpr (kAhead) {
+      // No NaN: plain min/max, in a tree rather than a chain (the box test is on the path from
+      // one node to the next). tnear >= tmin >= 0, so it shrinks; a negative tfar (a box behind
+      // the origin, with an exact sign: rounding keeps it) is rejected scaled either way.
+      tnear = xsimd::max(xsimd::max(near_x, near_y), xsimd::max(near_z, s.tmin)) * shrink;
+      tfar_widened = xsimd::min(xsimd::min(far_x, far_y), far_z) * grow;
+    } else {
+      const Floats inf(__builtin_inff()), zero(0.0f);
+      tnear = Ordered<A>::greater_or_second(
+          near_x,
+          Ordered<A>::greater_or_second(near_y, Ordered<A>::greater_or_second(near_z, s.tmin)));
+      const Floats tfar = Ordered<A>::less_or_second(
+          far_x, Ordered<A>::less_or_second(far_y, Ordered<A>::less_or_second(far_z, inf)));
+      // Ize's tnear <= tfar * (1 + 2 gamma(3)) is conservative only for tfar >= 0, but tmin
+      // may be negative and boxes then lie behind the origin: widen each end by 2 gamma(3) of
+      // its own magnitude instead, which holds for either sign (and keeps +-inf, never making
+      // NaN).
+      tnear = tnear * xsimd::select(tnear >= zero, shrink, grow);
+      tfar_widened = tfar * xsimd::select(tfar >= zero, grow, shrink);
+    }
+    // The widened tnear is also what best_t is compared with, here and when the child is
+    // popped. <= best_t, not <: a sphere at exactly best_t with a lower id still wins.
+    return (tnear <= tfar_widened) & (tnear <= best_t);
+  }
+
+  // Pushes the entered children but the nearest, farthest first, and returns the nearest: it
+  // is visited next, with no trip through the stack. One or two children, what most nodes give
+  // an incoherent ray, take a path without data-dependent branches.
+  static ChildRef enter(const Node& node, unsigned bits, const Floats& tnear, StackEntry* stack,
+                        std::size_t& top) {
+    alignas(64) float t[kWidth];
+    tnear.store_aligned(t);
+    const unsigned rest = bits & (bits - 1);
+    if ((rest & (rest - 1)) == 0) {
+      const auto a = static_cast<unsigned>(__builtin_ctz(bits));
+      const auto b = rest != 0 ? static_cast<unsigned>(__builtin_ctz(rest)) : a;
+      const bool b_first = t[b] <= t[a];
+      const unsigned nearer = b_first ? b : a, farther = b_first ? a : b;
+      // Written even for one child: the slot above top is free (see kStackSize).
+      stack[top] = {node.ref(farther), t[farther]};
+      top += rest != 0;
+      return node.ref(nearer);
+    }
+    // Three or more: each child goes straight to its slot in the sorted run, its rank being
+    // how many entered children precede it (farther, or as near and in a lower lane). No
+    // comparison branches, only the loop over the children.
+    for (unsigned left = bits; left != 0; left &= left - 1) {
+      const auto lane = static_cast<unsigned>(__builtin_ctz(left));
+      const Floats tl(t[lane]);
+      const unsigned farther = LaneReduce<A>::bits(tnear > tl) & bits;
+      const unsigned tied = LaneReduce<A>::bits(tnear == tl) & bits & ((1u << lane) - 1u);
+      stack[top + static_cast<unsigned>(__builtin_popcount(farther)) +
+            static_cast<unsigned>(__builtin_popcount(tied))] = {node.ref(lane), t[lane]};
+    }
+    top += static_cast<unsigned>(__builtin_popcount(bits));
+    return stack[--top].ref;
+  }
+};
+
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -1,0 +1,177 @@
+// Building a tree: the builder's nodes (builder.hpp) flattened into the traversal's layout,
+// every leaf its own aligned batch of sphere slots (docs/bvh.md, "Layout").
+#include "bvh/build.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <vector>
+
+#include "bvh/builder.hpp"
+#include "bvh/parallel.hpp"
+#include "bvh/prim.hpp"
+
+#if SPHRAY_HAS_TBB
+#include <tbb/info.h>
+#include <tbb/task_arena.h>
+#endif
+
+namespace sphray::detail {
+namespace {
+
+// Where a leaf's spheres go: prims [begin, begin + count) to the slots from slot on.
+struct LeafPlace {
+  std::size_t begin, count, slot;
+};
+
+// Writes the built tree's nodes in depth-first pre-order (a parent before its children, which
+// refit relies on), and gives every leaf its own batch of width sphere slots: its reference is
+// its first slot, a multiple of the width, plus its count - 1. An aligned leaf is read as one
+// batch without a cache-line split, and the lanes past its count hold never-hit padding, not
+// the next leaf's spheres (whose extra hits only made the closest-hit fold longer).
+class Flattener {
+ public:
+  explicit Flattener(BvhArrays& out) : out_(out), w_(out.width) {}
+
+  std::vector<LeafPlace> leaves;
+  std::size_t slots_used = 0;  // a multiple of the width
+
+  void write(const Builder::Node& node, std::size_t index) {
+    const NodeView<float> view(out_.nodes.get(), index, w_);
+    std::size_t next = index + 1;
+    for (std::size_t k = 0; k < w_; ++k) {
+      const Builder::Node::Child* child = k < node.children.size() ? &node.children[k] : nullptr;
+      ChildRef ref = ChildRef::empty();
+      if (child && child->node) {
+        ref = ChildRef::node(next);
+        write(*child->node, next);
+        next += child->node->subtree_nodes;
+      } else if (child) {
+        const std::size_t count = child->cluster.size();
+        ref = ChildRef::leaf(slots_used, count);
+        leaves.push_back({child->cluster.begin, count, slots_used});
+        slots_used += w_;
+      }
+      write_box(view, k, child ? child->cluster.box : Box{});
+      view.set_ref(k, ref);
+    }
+  }
+
+ private:
+  BvhArrays& out_;
+  std::size_t w_;
+};
+
+Prims make_prims(SphereView v) {
+  Prims p(v.count);
+  parallel_for(v.count, kBlock, [&](std::size_t i) {
+    p[i] = Prim::make(v.cx[i], v.cy[i], v.cz[i], v.radius[i], static_cast<std::uint32_t>(i));
+  });
+  return p;
+}
+
+template <class T>
+BvhArrays::AlignedArray<T> allocate(std::size_t n) {
+  return BvhArrays::AlignedArray<T>(
+      static_cast<T*>(::operator new[](n * sizeof(T), std::align_val_t{64})));
+}
+
+// The zeroed nodes of a tree of nodes nodes.
+void allocate_nodes(BvhArrays& out, std::size_t nodes) {
+  if (nodes >= ChildRef::kEmptyBits) throw std::length_error("sphray::SphereBVH: too many spheres");
+  out.nodes = allocate<float>(node_floats(nodes, out.width));
+  std::fill_n(out.nodes.get(), node_floats(nodes, out.width), 0.0f);
+  out.node_count = nodes;
+}
+
+// The sphere slots, rounded to 16 floats so that each of the four arrays starts on a cache
+// line, all never hit (radius 0, id kNoHit) until the leaves' spheres are written.
+void allocate_slots(BvhArrays& out, std::size_t slots) {
+  out.slots = (slots + 15) / 16 * 16;
+  if (out.slots >= kBvhLeafBit) throw std::length_error("sphray::SphereBVH: too many spheres");
+  out.spheres = allocate<float>(4 * out.slots);
+  out.ids = allocate<std::uint32_t>(out.slots);
+  std::fill_n(out.spheres.get(), 4 * out.slots, 0.0f);
+  std::fill_n(out.ids.get(), out.slots, kNoHit);
+}
+
+// The spheres and ids of the built tree: each leaf's prims to its slots.
+void write_spheres(BvhArrays& out, const Prims& prims, const std::vector<LeafPlace>& leaves) {
+  float* x = out.spheres.get();
+  float *y = x + out.slots, *z = y + out.slots, *r = z + out.slots;
+  parallel_for(leaves.size(), kBlock / 16, [&](std::size_t k) {
+    const LeafPlace& leaf = leaves[k];
+    for (std::size_t j = 0; j < leaf.count; ++j) {
+      const Prim& p = prims[leaf.begin + j];
+      const std::size_t i = leaf.slot + j;
+      x[i] = p.sphere[0];
+      y[i] = p.sphere[1];
+      z[i] = p.sphere[2];
+      r[i] = p.sphere[3];
+      out.ids[i] = p.id();
+    }
+  });
+}
+
+BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min) {
+  BvhArrays out;
+  out.width = width;
+  out.source_count = v.count;
+  if (v.count == 0) return out;
+  Prims prims = make_prims(v);
+  Builder builder(prims, width, parallel_min);
+  // The root is always a node, even over a single leaf, so traversal starts the same way.
+  Builder::Node root;
+  const Cluster all = builder.cluster(0, v.count);
+  if (v.count <= width) {
+    root.children.resize(1);
+    root.children[0].cluster = all;
+  } else {
+    root = std::move(*builder.build(all, 0));
+  }
+  allocate_nodes(out, root.subtree_nodes);
+  Flattener flat(out);
+  flat.write(root, 0);
+  allocate_slots(out, flat.slots_used);
+  write_spheres(out, prims, flat.leaves);
+  out.leaf_overlap = measure_leaf_overlap(out);
+  return out;
+}
+
+}  // namespace
+
+BvhData BvhArrays::data() const {
+  BvhData d;
+  d.width = width;
+  d.nodes = nodes.get();
+  d.node_count = node_count;
+  if (slots != 0) {
+    const float* x = spheres.get();
+    d.spheres = {x, x + slots, x + 2 * slots, x + 3 * slots, slots, slots};
+  }
+  d.ids = ids.get();
+  d.count = source_count;
+  d.memory_bytes = memory_bytes();
+  d.leaf_overlap = leaf_overlap;
+  return d;
+}
+
+std::size_t BvhArrays::memory_bytes() const {
+  return node_floats(node_count, width) * sizeof(float) +
+         slots * (4 * sizeof(float) + sizeof(std::uint32_t));
+}
+
+BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions& options) {
+  if (spheres.count > (std::size_t{1} << 31))
+    throw std::length_error("sphray::SphereBVH: more than 2^31 spheres");
+#if SPHRAY_HAS_TBB
+  // More threads than the machine runs would only make oneTBB warn: the tree is the same.
+  const int cores = tbb::info::default_concurrency();
+  const int use = options.threads == 0 ? cores : std::min(cores, static_cast<int>(options.threads));
+  tbb::task_arena arena(use);
+  return arena.execute([&] { return build_here(spheres, width, options.parallel_min); });
+#else
+  return build_here(spheres, width, options.parallel_min);
+#endif
+}
+
+}  // namespace sphray::detail

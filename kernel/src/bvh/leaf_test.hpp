@@ -1,0 +1,80 @@
+// The leaf test of the SIMD walk, written once over an xsimd architecture A: a leaf is one
+// aligned batch of slots (its spheres, then never-hit padding), tested with the sphere kernel's
+// roots and folded into the best hit in the contract's order.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "brute/sphere_lanes.hpp"
+#include "bvh/robust_slab.hpp"
+#include "simd/isa_namespace.hpp"
+#include "simd/lane_reduce.hpp"
+#include "sphray/bvh.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
+
+template <class A>
+struct LeafTest {
+  using Batch = SphereLanes<A>;
+  using Floats = typename Batch::Floats;
+  using Mask = typename Batch::Mask;
+  static constexpr std::size_t kWidth = Batch::kWidth;
+
+  // Whether the leaves take the branch-free test: where a point of the tree's box lies in
+  // kBvhBranchFreeOverlap leaf boxes or more on average, a scattered ray tests several leaves, and
+  // the leaf test's branches are coin tosses (see keep_closest). random:512 has 1.49,
+  // random:4096 1.80, random:65536 2.09; rtiow-final 1.00 (docs/bvh.md, "Leaves").
+  static bool branch_free(const BvhData& bvh) { return bvh.leaf_overlap >= kBvhBranchFreeOverlap; }
+
+  // Folds the hits of the leaf batch at slot i into best. Leaf order is not id order, so a tie
+  // on t goes to the lower id explicitly. Two forms, the same result:
+  // - kBranchFree = false: the sphere kernel's early exit when no lane's discriminant is
+  //   non-negative, then a loop over the lanes that hit.
+  // - kBranchFree = true: no branch on the lanes but "any hit at all": the roots of every lane,
+  //   then the smallest t by a horizontal min and its id.
+  // The branches win in sparse scenes, where a ray tests about one leaf and the predictor
+  // learns its outcome. Scattered rays in a dense scene test several leaves, about half of
+  // them with a lane whose discriminant is non-negative: there the branches are coin tosses,
+  // each mispredicted one costing more than the arithmetic it skips, and coherent rays lose
+  // nothing without them. The tree picks (branch_free).
+  template <bool kBranchFree>
+  static void keep_closest(const BvhData& bvh, const typename Batch::RaySetup& s, std::size_t i,
+                           Hit& best) {
+    Floats t;
+    Mask live;
+    constexpr Skip kSkip = kBranchFree ? Skip::kNever : Skip::kAfterDisc;
+    if (!Batch::template roots<kSkip>(s, Batch::load(bvh.spheres, i), t, live)) return;
+    const Mask hit = live & (t > s.tmin) & (t <= Floats(best.t));
+    if constexpr (kBranchFree) {
+      if (xsimd::none(hit)) return;
+      const Floats m =
+          LaneReduce<A>::template all_min<float>(xsimd::select(hit, t, Floats(__builtin_inff())));
+      keep_closer(best, m.get(0), lowest_id(bvh, i, LaneReduce<A>::bits(hit & (t == m))));
+    } else {
+      unsigned bits = LaneReduce<A>::bits(hit);
+      if (bits == 0) return;
+      alignas(64) float lanes[kWidth];
+      t.store_aligned(lanes);
+      for (; bits != 0; bits &= bits - 1) {
+        const auto lane = static_cast<unsigned>(__builtin_ctz(bits));
+        keep_closer(best, lanes[lane], bvh.ids[i + lane]);
+      }
+    }
+  }
+
+  // The lowest id among the lanes of the leaf at slot i whose bits are set (at least one).
+  // Several lanes share the smallest t only for equal spheres: the loop rarely runs.
+  static std::uint32_t lowest_id(const BvhData& bvh, std::size_t i, unsigned lanes) {
+    std::uint32_t id = bvh.ids[i + static_cast<unsigned>(__builtin_ctz(lanes))];
+    for (lanes &= lanes - 1; lanes != 0; lanes &= lanes - 1) {
+      const std::uint32_t other = bvh.ids[i + static_cast<unsigned>(__builtin_ctz(lanes))];
+      id = other < id ? other : id;
+    }
+    return id;
+  }
+};
+
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -1,0 +1,134 @@
+// What the builder and refit work on: four-lane boxes, the builder's view of a sphere (Prim)
+// and a child's box in a node. Plain C++ over xsimd's baseline architecture; the builder is
+// the same for every instruction set.
+#pragma once
+
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <type_traits>
+
+#include <xsimd/xsimd.hpp>
+
+#include "brute/validity.hpp"
+#include "bvh/node.hpp"
+
+namespace sphray::detail {
+
+using SPHRAY_ISA_NAMESPACE::ChildRef;
+using SPHRAY_ISA_NAMESPACE::node_floats;
+using SPHRAY_ISA_NAMESPACE::NodeView;
+
+constexpr float kInf = INFINITY;
+// Spheres per block of the parallel partition, at most. Fixed for given options, so that the
+// blocks, and with them the order the partition leaves, do not depend on the thread count.
+constexpr std::size_t kBlock = 4096;
+
+// Four floats, x, y, z and a spare lane, in one SIMD register: xsimd's baseline architecture
+// (SSE2 on x86-64, NEON on AArch64) is 4 wide. The builder needs nothing wider: it is bound by
+// memory, not arithmetic.
+using Lanes = xsimd::batch<float, xsimd::default_arch>;
+using LaneInts = xsimd::batch<std::int32_t, xsimd::default_arch>;
+static_assert(Lanes::size == 4, "the builder's boxes are four lanes");
+
+// A box with a spare lane per corner, so that growing it is one min and one max.
+struct alignas(16) Box {
+  float lo[4] = {kInf, kInf, kInf, kInf};
+  float hi[4] = {-kInf, -kInf, -kInf, -kInf};
+
+  void grow(const Lanes& l, const Lanes& h) {
+    xsimd::min(Lanes::load_aligned(lo), l).store_aligned(lo);
+    xsimd::max(Lanes::load_aligned(hi), h).store_aligned(hi);
+  }
+  void grow(const Box& b) { grow(Lanes::load_aligned(b.lo), Lanes::load_aligned(b.hi)); }
+  void grow(const Lanes& point) { grow(point, point); }
+  bool empty() const { return !(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2]); }
+  // Half the surface area; the SAH only compares ratios. Infinite for unbounded boxes.
+  float half_area() const {
+    if (empty()) return 0.0f;
+    const float x = hi[0] - lo[0], y = hi[1] - lo[1], z = hi[2] - lo[2];
+    const float a = x * y + y * z + z * x;
+    return std::isnan(a) ? kInf : a;
+  }
+  // In double, so that boxes up to 10^100 wide keep a finite volume. Infinite for unbounded
+  // boxes.
+  double volume() const {
+    if (empty()) return 0.0;
+    const double v = (double{hi[0]} - lo[0]) * (double{hi[1]} - lo[1]) * (double{hi[2]} - lo[2]);
+    return std::isnan(v) ? HUGE_VAL : v;
+  }
+};
+
+// Half the side of a sphere's box on one axis: the radius, widened by 2^-20 of the
+// coordinate's magnitude. That is more than the rounding of c -+ e, and enough to hold a grazing
+// hit that the kernel's own rounding puts just outside the exact sphere.
+inline float half_extent(float c, float r) {
+  return r + (std::fabs(c) + r) * 0x1p-20f;
+}
+
+// One sphere as the builder sees it, 32 bytes: the centre and radius, the box's half extents
+// and the id. The build partitions an array of these, so every pass over a range reads memory
+// in order, and the leaves' spheres are copied out of it in order at the end. An invalid
+// sphere (never hit) has centre 0, radius 0 and half extents -inf: its box c -+ e is empty, so
+// it never widens a parent, and its centre still compares with the others.
+struct alignas(16) Prim {
+  float sphere[4];  // centre x, y, z; radius
+  float extent[4];  // half extents x, y, z; the id's bits
+
+  static Prim make(float x, float y, float z, float r, std::uint32_t id) {
+    Prim p{{0.0f, 0.0f, 0.0f, 0.0f}, {-kInf, -kInf, -kInf, 0.0f}};
+    if (valid_sphere({x, y, z}, r))
+      p = {{x, y, z, r}, {half_extent(x, r), half_extent(y, r), half_extent(z, r), 0.0f}};
+    p.extent[3] = std::bit_cast<float>(id);
+    return p;
+  }
+  std::uint32_t id() const { return std::bit_cast<std::uint32_t>(extent[3]); }
+  // The centre in lanes 0-2 (lane 3: the radius, which binning multiplies by 0).
+  Lanes centre() const { return Lanes::load_aligned(sphere); }
+  // Grows box by the sphere's box. The id's lane is zeroed first: as a float it is mostly
+  // subnormal, which some processors handle in slow microcode.
+  void grow(Box& box) const {
+    const xsimd::batch_bool<float, xsimd::default_arch> xyz{true, true, true, false};
+    const Lanes c = centre();
+    const Lanes e = xsimd::select(xyz, Lanes::load_aligned(extent), Lanes(0.0f));
+    box.grow(c - e, c + e);
+  }
+};
+static_assert(std::is_trivially_default_constructible_v<Prim> && sizeof(Prim) == 32);
+
+// A default-initialised array of prims: the builder writes every element before reading it.
+struct Prims {
+  explicit Prims(std::size_t n) : data(new Prim[n]), size(n) {}
+  Prim& operator[](std::size_t i) { return data[i]; }
+  const Prim& operator[](std::size_t i) const { return data[i]; }
+  std::unique_ptr<Prim[]> data;
+  std::size_t size;
+};
+
+// The box refit gives a sphere: the same arithmetic as the build's.
+inline Box sphere_box(float x, float y, float z, float r) {
+  Box b;
+  Prim::make(x, y, z, r, 0).grow(b);
+  return b;
+}
+
+// A child's box in a node, and back.
+inline void write_box(const NodeView<float>& node, std::size_t k, const Box& b) {
+  for (int axis = 0; axis < 3; ++axis) {
+    node.lo(axis, k) = b.lo[axis];
+    node.hi(axis, k) = b.hi[axis];
+  }
+}
+
+inline Box read_box(const NodeView<const float>& node, std::size_t k) {
+  Box b;
+  for (int axis = 0; axis < 3; ++axis) {
+    b.lo[axis] = node.lo(axis, k);
+    b.hi[axis] = node.hi(axis, k);
+  }
+  return b;
+}
+
+}  // namespace sphray::detail

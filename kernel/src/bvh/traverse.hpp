@@ -1,0 +1,62 @@
+// The SIMD walk's single-ray queries, written once over an xsimd architecture A: the walk
+// (walk.hpp: box_test.hpp per node) to each leaf the ray may reach, and there the leaf test
+// (leaf_test.hpp). Each per-ISA unit instantiates it with its own A (dispatch/entry_points.hpp).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "brute/sphere_lanes.hpp"
+#include "bvh/leaf_test.hpp"
+#include "bvh/walk.hpp"
+#include "simd/isa_namespace.hpp"
+#include "sphray/bvh.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
+
+template <class A>
+struct BvhTraversal {
+  using Batch = SphereLanes<A>;
+  using Floats = typename Batch::Floats;
+  using Mask = typename Batch::Mask;
+  static constexpr std::size_t kWidth = Batch::kWidth;
+  using Leaves = LeafTest<A>;
+  using Walks = TreeWalk<A>;
+
+  // A leaf is one aligned batch of slots: its spheres, then never-hit padding. The leaf test's
+  // form (see keep_closest) is the tree's: branch-free where leaf boxes overlap.
+  static Hit intersect(const BvhData& bvh, const Ray& ray) {
+    return Leaves::branch_free(bvh) ? intersect<true>(bvh, ray) : intersect<false>(bvh, ray);
+  }
+
+  template <bool kBranchFree>
+  static Hit intersect(const BvhData& bvh, const Ray& ray) {
+    typename Batch::RaySetup s;
+    Hit best{ray.tmax, kNoHit};
+    if (!Batch::setup(ray, s)) return best;
+    Walks::traverse(bvh, ray, best.t, [&](std::size_t first) {
+      Leaves::template keep_closest<kBranchFree>(bvh, s, first, best);
+      return false;
+    });
+    return best;
+  }
+
+  static bool occluded(const BvhData& bvh, const Ray& ray) {
+    typename Batch::RaySetup s;
+    if (!Batch::setup(ray, s)) return false;
+    const Floats tmax(s.tmax);
+    bool hit = false;
+    Walks::traverse(bvh, ray, s.tmax, [&](std::size_t first) {
+      Floats t;
+      Mask live;
+      hit = Batch::template roots<Skip::kAfterDisc>(s, Batch::load(bvh.spheres, first), t, live) &&
+            xsimd::any(live & (t > s.tmin) & (t < tmax));
+      return hit;
+    });
+    return hit;
+  }
+};
+
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

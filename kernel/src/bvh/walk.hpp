@@ -1,0 +1,107 @@
+// One ray's way through the tree, written once over an xsimd architecture A: a leaf at a time,
+// so that the single-ray queries can walk one ray to its end and the stream several in turns.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "bvh/box_test.hpp"
+#include "bvh/node.hpp"
+#include "simd/isa_namespace.hpp"
+#include "simd/lane_reduce.hpp"
+#include "sphray/bvh.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
+
+template <class A>
+struct TreeWalk {
+  using Box = BoxTest<A>;
+  using Floats = typename Box::Floats;
+  static constexpr std::size_t kWidth = Box::kWidth;
+  using Node = typename Box::Node;
+  using StackEntry = typename Box::StackEntry;
+  using NodeSetup = typename Box::NodeSetup;
+
+  // One ray's way through the tree, a leaf at a time: descend() goes from the current entry
+  // down the nearest entered children to a leaf, or finds none; pop() takes the next entry off
+  // the stack, skipping those behind best_t. The single-ray queries walk one ray to its end;
+  // the stream can walk several in turns.
+  template <bool kAhead>
+  struct Walk {
+    NodeSetup s;
+    std::size_t top;
+    ChildRef ref;
+    StackEntry stack[Box::kStackSize];
+
+    void start(const Ray& ray) {
+      s = Box::node_setup(ray);
+      top = 0;
+      ref = ChildRef::node(0);  // the root
+    }
+
+    bool descend(const BvhData& bvh, float best_t, std::size_t& first) {
+      while (!ref.is_leaf()) {
+        const Node node(bvh.nodes, ref.node_index(), kWidth);
+        Floats tnear;
+        const unsigned bits = LaneReduce<A>::bits(
+            Box::template enter_children<kAhead>(s, node, Floats(best_t), tnear));
+        if (bits == 0) return false;
+        ref = Box::enter(node, bits, tnear, stack, top);
+      }
+      first = ref.first(kWidth);
+      return true;
+    }
+
+    bool pop(float best_t) {
+      // Entries behind the best hit so far can only hold farther spheres.
+      do {
+        if (top == 0) return false;
+        --top;
+      } while (stack[top].tnear > best_t);
+      ref = stack[top].ref;
+      return true;
+    }
+
+    // The first leaf after start(), if any.
+    bool first_leaf(const BvhData& bvh, float best_t, std::size_t& first) {
+      return descend(bvh, best_t, first) || next_leaf(bvh, best_t, first);
+    }
+
+    // The leaf after the one last returned, if any.
+    bool next_leaf(const BvhData& bvh, float best_t, std::size_t& first) {
+      while (pop(best_t))
+        if (descend(bvh, best_t, first)) return true;
+      return false;
+    }
+  };
+
+  // Visits the tree: for each leaf the ray may reach before best_t, calls leaf(first sphere),
+  // which returns whether to stop. Nodes are entered nearest child first.
+  template <class Leaf>
+  static void traverse(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf&& leaf) {
+    if (bvh.node_count == 0) return;
+    // A tree over at most kWidth spheres is one leaf, at slot 0: it is read directly, as brute
+    // force reads a batch, without a test of the root's mostly empty child boxes.
+    if (bvh.count <= kWidth) {
+      leaf(0);
+      return;
+    }
+    if (Box::ahead(ray))
+      walk<true>(bvh, ray, best_t, leaf);
+    else
+      walk<false>(bvh, ray, best_t, leaf);
+  }
+
+  template <bool kAhead, class Leaf>
+  static void walk(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf& leaf) {
+    Walk<kAhead> w;
+    w.start(ray);
+    std::size_t first;
+    for (bool more = w.first_leaf(bvh, best_t, first); more; more = w.next_leaf(bvh, best_t, first))
+      if (leaf(first)) return;
+  }
+};
+
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -1,6 +1,0 @@
-// The kernel for AVX2 with FMA (8 lanes). Compiled with -mavx2 -mfma only.
-#include "kernel_entries.hpp"
-
-namespace sphray::detail {
-constinit const Kernel kAvx2Kernel = make_kernel<xsimd::fma3<xsimd::avx2>>(Isa::avx2);
-}

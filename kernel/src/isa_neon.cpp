@@ -1,6 +1,0 @@
-// The kernel for NEON on 64-bit ARM (4 lanes). NEON is part of the AArch64 baseline.
-#include "kernel_entries.hpp"
-
-namespace sphray::detail {
-constinit const Kernel kNeonKernel = make_kernel<xsimd::neon64>(Isa::neon);
-}

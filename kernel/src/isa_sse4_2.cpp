@@ -1,6 +1,0 @@
-// The kernel for SSE4.2 (4 lanes). Compiled with -msse4.2 only.
-#include "kernel_entries.hpp"
-
-namespace sphray::detail {
-constinit const Kernel kSse42Kernel = make_kernel<xsimd::sse4_2>(Isa::sse4_2);
-}
