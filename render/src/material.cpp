@@ -73,6 +73,14 @@ Vec3 PathRandom::unit_vector() {
   }
 }
 
+Vec3 PathRandom::in_unit_disk() {
+  for (;;) {
+    const float x = 2.0f * uniform() - 1.0f;
+    const float y = 2.0f * uniform() - 1.0f;
+    if (x * x + y * y < 1.0f) return {x, y, 0.0f};
+  }
+}
+
 Vec3 refract(Vec3 v, Vec3 n, float eta) {
   const float cosine = std::min(dot(-v, n), 1.0f);
   const Vec3 across = eta * (v + cosine * n);

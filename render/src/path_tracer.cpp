@@ -143,14 +143,17 @@ class TileTracer {
     return y * static_cast<std::uint64_t>(options_.width) + x;
   }
 
-  // A point drawn uniformly in the pixel, as the book's sample_square does.
+  // A point drawn uniformly in the pixel, as the book's sample_square does, and one on the
+  // lens when the camera has defocus blur.
   Ray camera_ray(const Tile& tile, std::size_t i, std::uint32_t sample) const {
     PathRandom random(options_.seed, pixel_index(tile, i), sample, 0);
     const float jx = random.uniform();
     const float jy = random.uniform();
-    const int x = tile.x0 + static_cast<int>(i) % tile.width;
-    const int y = tile.y0 + static_cast<int>(i) / tile.width;
-    return camera_.ray(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
+    const float px = static_cast<float>(tile.x0 + static_cast<int>(i) % tile.width) + jx;
+    const float py = static_cast<float>(tile.y0 + static_cast<int>(i) / tile.width) + jy;
+    if (!camera_.has_defocus()) return camera_.ray(px, py);
+    const Vec3 lens = random.in_unit_disk();
+    return camera_.ray(px, py, lens.x, lens.y);
   }
 
   const Scene& scene_;

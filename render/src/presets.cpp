@@ -95,7 +95,7 @@ Scene make_rtiow_final() {
   add_sphere(scene, {0, 1, 0}, 1.0f, glass(1.5f));
   add_sphere(scene, {-4, 1, 0}, 1.0f, {0.4f, 0.2f, 0.1f});
   add_sphere(scene, {4, 1, 0}, 1.0f, metal({0.7f, 0.6f, 0.5f}, 0.0f));
-  scene.camera = CameraSpec{{13, 2, 3}, {0, 0, 0}, {0, 1, 0}, 20.0f};
+  scene.camera = CameraSpec{{13, 2, 3}, {0, 0, 0}, {0, 1, 0}, 20.0f, 0.6f, 10.0f};
   scene.width = 1200;
   scene.height = 675;
   return scene;

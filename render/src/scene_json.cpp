@@ -98,7 +98,8 @@ int side_at(const json& value, const std::string& pointer, const std::string& wh
 
 CameraSpec camera_at(const json& value) {
   const json& camera =
-      object_at(value, "/camera", "\"camera\"", {"lookfrom", "lookat", "vup", "vfov"});
+      object_at(value, "/camera", "\"camera\"",
+                {"lookfrom", "lookat", "vup", "vfov", "defocus_angle", "focus_dist"});
   CameraSpec spec;
   if (camera.contains("lookfrom"))
     spec.lookfrom = vec3_at(camera["lookfrom"], "/camera/lookfrom", "\"lookfrom\"");
@@ -106,6 +107,11 @@ CameraSpec camera_at(const json& value) {
     spec.lookat = vec3_at(camera["lookat"], "/camera/lookat", "\"lookat\"");
   if (camera.contains("vup")) spec.vup = vec3_at(camera["vup"], "/camera/vup", "\"vup\"");
   if (camera.contains("vfov")) spec.vfov = number_at(camera["vfov"], "/camera/vfov", "\"vfov\"");
+  if (camera.contains("defocus_angle"))
+    spec.defocus_angle =
+        number_at(camera["defocus_angle"], "/camera/defocus_angle", "\"defocus_angle\"");
+  if (camera.contains("focus_dist"))
+    spec.focus_dist = number_at(camera["focus_dist"], "/camera/focus_dist", "\"focus_dist\"");
   try {
     Camera check(spec, 16, 9);
   } catch (const SceneError& e) {

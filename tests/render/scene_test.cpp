@@ -60,6 +60,8 @@ TEST(Presets, RtiowFinalHasTheBooksLayout) {
   EXPECT_EQ(s.camera.lookfrom, (Vec3{13, 2, 3}));
   EXPECT_EQ(s.camera.lookat, (Vec3{0, 0, 0}));
   EXPECT_EQ(s.camera.vfov, 20.0f);
+  EXPECT_EQ(s.camera.defocus_angle, 0.6f);  // the book's cover camera
+  EXPECT_EQ(s.camera.focus_dist, 10.0f);
 }
 
 // The book's materials: the ground grey Lambertian, the three large spheres glass (1.5), brown
@@ -238,11 +240,18 @@ TEST(SceneJson, ReadsMaterialsAndTheSky) {
   EXPECT_EQ(s.materials[4].albedo, (Vec3{0.9f, 0.8f, 0.7f}));
   EXPECT_EQ(s.sky.horizon, (Vec3{0.25f, 0.5f, 1}));
   EXPECT_EQ(s.sky.zenith, (Vec3{2, 2, 2}));
+  Scene blurred = parse_scene(
+      R"({"camera": {"defocus_angle": 2, "focus_dist": 3.5}, "spheres": []})", "b.json");
+  EXPECT_EQ(blurred.camera.defocus_angle, 2.0f);
+  EXPECT_EQ(blurred.camera.focus_dist, 3.5f);
   Scene plain = parse_scene(R"({"spheres": [{"center": [0,0,0], "radius": 1}]})", "p.json");
   EXPECT_EQ(plain.materials[0].kind, MaterialKind::lambertian);
   EXPECT_EQ(plain.materials[0].albedo, (Vec3{0.5f, 0.5f, 0.5f}));
   EXPECT_EQ(plain.sky.horizon, (Vec3{1, 1, 1}));
   EXPECT_EQ(plain.sky.zenith, (Vec3{0.5f, 0.7f, 1}));
+  EXPECT_EQ(plain.camera.defocus_angle, 0.0f);  // a pinhole
+  EXPECT_EQ(error_of(R"({"camera": {"focus_dist": 0}, "spheres": []})"),
+            "s.json:1:12: expected a positive focus_dist, got 0.000000");
 }
 
 std::string material_error(const std::string& material) {

@@ -49,6 +49,8 @@ class PathRandom {
   }
   /// Uniform on the unit sphere.
   Vec3 unit_vector();
+  /// Uniform in the unit disk: {x, y, 0}.
+  Vec3 in_unit_disk();
 
   /// SplitMix64's finaliser.
   static std::uint64_t mix(std::uint64_t z) {

@@ -24,6 +24,11 @@ struct CameraSpec {
   Vec3 lookat{0, 0, -1};
   Vec3 vup{0, 1, 0};
   float vfov = 90.0f;  // vertical field of view, degrees
+  /// Path mode's depth of field, the book's defocus blur: the angle (degrees) of the cone from
+  /// each pixel's point on the plane in focus to the lens; 0 is a pinhole. The other modes
+  /// always use the pinhole.
+  float defocus_angle = 0.0f;
+  float focus_dist = 10.0f;  // from lookfrom to the plane in focus, along the view direction
 };
 
 struct Scene {
