@@ -10,10 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "dispatch/entry_table.hpp"  // each instruction set's entry points (sphray_kernel_internals)
 #include "sphray/sphray.hpp"
 #include "workload.hpp"
 
 namespace sphray::bench {
+
+using detail::find_kernel;
+using detail::Kernel;
 
 /// Traces rays into hits (hits.size() == rays.size()).
 using Trace = std::function<void(std::span<const Ray> rays, std::span<Hit> hits)>;

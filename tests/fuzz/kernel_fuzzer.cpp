@@ -27,9 +27,14 @@
 
 #include <sphray/sphray.hpp>
 
+#include "dispatch/entry_table.hpp"  // each instruction set's entry points (sphray_kernel_internals)
+
 namespace {
 
 using namespace sphray;
+using detail::find_kernel;
+using detail::Kernel;
+using detail::kernel_for_size;
 
 constexpr std::size_t kMaxSpheres = 40;
 constexpr std::size_t kMaxRays = 4;

@@ -77,7 +77,7 @@ test::LooseSpheres make_scene(Kind kind, std::size_t n, std::mt19937& rng) {
 std::vector<Ray> make_rays(std::size_t count, const SphereView& v, const SphereBVH& bvh,
                            std::mt19937& rng) {
   std::vector<Ray> rays(count);
-  const detail::BvhData& d = bvh.data();
+  const detail::BvhData& d = detail::BvhAccess::data(bvh);
   for (auto& ray : rays) {
     ray = Ray{test::random_in_box(rng, 60.0f), test::random_direction(rng)};
     switch (rng() % 8) {
@@ -177,8 +177,9 @@ TEST_P(BvhAgreement, MatchesBruteForceOnEveryKindAndSize) {
       const auto rays = make_rays(ray_count(*k, n), scene.view(), bvh, rng);
       compare(*k, scene.view(), bvh, rays, tally, label(*k, kind, n));
       if (n > 100)
-        ++(bvh.data().leaf_overlap >= detail::kBvhBranchFreeOverlap ? branch_free_trees
-                                                                    : branching_trees);
+        ++(detail::BvhAccess::data(bvh).leaf_overlap >= detail::kBvhBranchFreeOverlap
+               ? branch_free_trees
+               : branching_trees);
     }
   }
   std::cout << "[ compared ] " << tally.rays << " rays on " << isa_name(k->isa) << ", "
@@ -237,7 +238,7 @@ TEST(Bvh, RefitRejectsAnotherCount) {
 }
 
 bool same_tree(const SphereBVH& a, const SphereBVH& b) {
-  const detail::BvhData &x = a.data(), &y = b.data();
+  const detail::BvhData &x = detail::BvhAccess::data(a), &y = detail::BvhAccess::data(b);
   if (x.node_count != y.node_count || x.width != y.width || x.spheres.count != y.spheres.count)
     return false;
   return std::memcmp(x.nodes, y.nodes,
@@ -281,8 +282,9 @@ TEST(Bvh, StreamGivesEachRayExactlyTheSingleRayHit) {
       const SphereBVH bvh(scene.view(), k->isa);
       if (k->isa != Isa::scalar) {
         ASSERT_GT(bvh.memory_bytes(), std::size_t{4} << 20) << "too small for the walk in turns";
-        ASSERT_EQ(bvh.data().leaf_overlap >= detail::kBvhBranchFreeOverlap, kind == Kind::uniform)
-            << "overlap " << bvh.data().leaf_overlap;
+        ASSERT_EQ(detail::BvhAccess::data(bvh).leaf_overlap >= detail::kBvhBranchFreeOverlap,
+                  kind == Kind::uniform)
+            << "overlap " << detail::BvhAccess::data(bvh).leaf_overlap;
       }
       std::vector<Ray> rays = make_rays(test::scaled(3000), scene.view(), bvh, rng);
       const Vec3 eye{0.0f, 0.0f, -150.0f};
@@ -311,21 +313,23 @@ TEST(Bvh, LeafOverlapIsTheLeafBoxesVolumeOverTheRootBox) {
     test::LooseSpheres few;
     for (std::size_t i = 0; i < w; ++i)
       few.add({float(i), 0.0f, 0.0f}, 0.5f);
-    EXPECT_FLOAT_EQ(SphereBVH(few.view(), k->isa).data().leaf_overlap, 1.0f) << test::name_of(k);
+    EXPECT_FLOAT_EQ(detail::BvhAccess::data(SphereBVH(few.view(), k->isa)).leaf_overlap, 1.0f)
+        << test::name_of(k);
     // 4w equal spheres: four full leaves, each box the root box.
     test::LooseSpheres same;
     for (std::size_t i = 0; i < 4 * w; ++i)
       same.add({1.0f, 2.0f, 3.0f}, 2.0f);
     SphereBVH bvh(same.view(), k->isa);
-    EXPECT_FLOAT_EQ(bvh.data().leaf_overlap, 4.0f) << test::name_of(k);
+    EXPECT_FLOAT_EQ(detail::BvhAccess::data(bvh).leaf_overlap, 4.0f) << test::name_of(k);
     // Refit to spheres far apart on a line: the leaves' boxes become thin slices of the root
     // box, and the overlap drops below the branch-free threshold.
     test::LooseSpheres apart;
     for (std::size_t i = 0; i < 4 * w; ++i)
       apart.add({100.0f * float(i), 0.0f, 0.0f}, 1.0f);
     bvh.refit(apart.view());
-    EXPECT_LT(bvh.data().leaf_overlap, detail::kBvhBranchFreeOverlap) << test::name_of(k);
-    EXPECT_GT(bvh.data().leaf_overlap, 0.0f) << test::name_of(k);
+    EXPECT_LT(detail::BvhAccess::data(bvh).leaf_overlap, detail::kBvhBranchFreeOverlap)
+        << test::name_of(k);
+    EXPECT_GT(detail::BvhAccess::data(bvh).leaf_overlap, 0.0f) << test::name_of(k);
   }
 }
 

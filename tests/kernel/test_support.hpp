@@ -15,6 +15,18 @@
 
 #include <sphray/sphray.hpp>
 
+// The library's insides (the sphray_kernel_internals target): each instruction set's entry
+// points, and a tree's arrays.
+#include "bvh/bvh_data.hpp"
+#include "dispatch/entry_table.hpp"
+
+namespace sphray {
+using detail::active_kernel;
+using detail::find_kernel;
+using detail::Kernel;
+using detail::kernel_for_size;
+}  // namespace sphray
+
 namespace sphray {
 // Names instruction sets in gtest's output ("GetParam() = avx2").
 inline void PrintTo(Isa isa, std::ostream* os) {

@@ -41,6 +41,9 @@ class SphereSoA {
   ~SphereSoA() = default;
 
   /// Appends a sphere and returns its id. Throws std::length_error past 2^32 - 1 spheres.
+  /// When size() reaches capacity() the arrays are reallocated: every SphereView taken
+  /// earlier then points at freed memory and must be taken again (reserve() first to add
+  /// without reallocating). A SphereBVH keeps its own copy and is not affected.
   std::uint32_t add(Vec3 center, float radius);
   /// Replaces sphere id. Throws std::out_of_range if id >= size().
   void set(std::uint32_t id, Vec3 center, float radius);
@@ -54,6 +57,10 @@ class SphereSoA {
   Vec3 center(std::uint32_t id) const { return {x(id), y(id), z(id)}; }
   float radius(std::uint32_t id) const { return array(3)[id]; }
 
+  /// A view of the current arrays. It stays valid until they are reallocated or freed: an
+  /// add() at size() == capacity(), a reserve() beyond capacity(), an assignment to or from
+  /// this object (a move), or its destruction. set() and clear() keep the arrays (the view's
+  /// count is the size at the time it was taken).
   SphereView view() const;
 
  private:

@@ -9,12 +9,12 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "bvh/bvh_data.hpp"
 #include "bvh/node.hpp"
 #include "bvh/robust_slab.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 #include "simd/ordered.hpp"
-#include "sphray/bvh.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
@@ -62,19 +62,8 @@ struct BoxTest {
     return Floats::load_aligned(node.plane_row(row));
   }
 
-  // Rays with tmin >= 0 and direction components of normal magnitude, whose inverses are
-  // finite: no slab distance can be NaN (that needs 0 * inf) and every entered box starts at
-  // tnear >= 0. Nearly every ray is one (camera and scattered rays start at tmin = 0 or an
-  // epsilon), and for them the box test below needs no NaN-ordered min/max chain and no sign
-  // selects.
-  static bool ahead(const Ray& ray) {
-    constexpr float kNormal = 0x1p-126f;  // 1 / kNormal = 2^126 is finite
-    return ray.tmin >= 0.0f && __builtin_fabsf(ray.dir.x) >= kNormal &&
-           __builtin_fabsf(ray.dir.y) >= kNormal && __builtin_fabsf(ray.dir.z) >= kNormal;
-  }
-
   // The children whose boxes the ray enters before best_t, and where it enters them. kAhead:
-  // the ray passed ahead(); both forms return the same mask and tnear for such a ray.
+  // the ray passed QueryPlan::ahead(); both forms return the same mask and tnear for such a ray.
   template <bool kAhead>
   static Mask enter_children(const NodeSetup& s, const Node& node, const Floats& best_t,
                              Floats& tnear) {

@@ -7,7 +7,7 @@
 #include <memory>
 #include <new>
 
-#include "sphray/bvh.hpp"
+#include "bvh/bvh_data.hpp"
 #include "sphray/spheres.hpp"
 
 namespace sphray::detail {

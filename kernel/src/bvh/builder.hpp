@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "bvh/binning.hpp"
+#include "bvh/bvh_data.hpp"
 #include "bvh/parallel.hpp"
 #include "bvh/prim.hpp"
-#include "sphray/bvh.hpp"
 
 namespace sphray::detail {
 

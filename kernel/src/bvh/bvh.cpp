@@ -2,23 +2,47 @@
 #include "sphray/bvh.hpp"
 
 #include <stdexcept>
+#include <string>
 
 #include "bvh/build.hpp"
+#include "bvh/bvh_data.hpp"
+#include "dispatch/entry_table.hpp"
 
 namespace sphray {
 
 struct SphereBVH::Storage {
   detail::BvhArrays arrays;
+  detail::BvhData data;  // views of arrays
+
+  static std::unique_ptr<Storage> build(SphereView spheres, const detail::Kernel& kernel,
+                                        const BvhBuildOptions& options) {
+    auto storage = std::make_unique<Storage>();
+    storage->arrays = detail::build_bvh(spheres, kernel.bvh_width, options);
+    storage->data = storage->arrays.data();
+    return storage;
+  }
 };
 
 namespace {
+
+using detail::Kernel;
+
+// The number of Isa enumerators: a value cast from anything else names no instruction set.
+constexpr std::size_t kIsaCount = 5;
+
 const Kernel& kernel_for(Isa isa) {
-  const Kernel* k = find_kernel(isa);
+  const auto index = static_cast<std::size_t>(isa);
+  if (index >= kIsaCount) {
+    throw std::invalid_argument("sphray::SphereBVH: " + std::to_string(index) +
+                                " is not an instruction set");
+  }
+  const Kernel* k = detail::find_kernel(isa);
   if (k == nullptr)
     throw std::invalid_argument("sphray::SphereBVH: instruction set " + std::string(isa_name(isa)) +
                                 " cannot run here");
   return *k;
 }
+
 }  // namespace
 
 SphereBVH::SphereBVH() : SphereBVH(SphereView{nullptr, nullptr, nullptr, nullptr, 0, 0}) {}
@@ -28,22 +52,23 @@ SphereBVH::SphereBVH(SphereView spheres, BvhBuildOptions options)
 
 SphereBVH::SphereBVH(SphereView spheres, Isa isa, BvhBuildOptions options)
     : kernel_(&kernel_for(isa)) {
-  storage_ =
-      std::make_unique<Storage>(Storage{detail::build_bvh(spheres, kernel_->bvh_width, options)});
-  data_ = storage_->arrays.data();
+  storage_ = Storage::build(spheres, *kernel_, options);
 }
 
-SphereBVH::SphereBVH(SphereBVH&&) noexcept = default;
-SphereBVH& SphereBVH::operator=(SphereBVH&&) noexcept = default;
+// A moved-from tree keeps its kernel and loses its storage: it reads as the empty tree.
+SphereBVH::SphereBVH(SphereBVH&& other) noexcept = default;
+SphereBVH& SphereBVH::operator=(SphereBVH&& other) noexcept = default;
 SphereBVH::~SphereBVH() = default;
 
 void SphereBVH::refit(SphereView spheres) {
+  if (!storage_)
+    storage_ = Storage::build({nullptr, nullptr, nullptr, nullptr, 0, 0}, *kernel_, {});
   detail::refit_bvh(storage_->arrays, spheres);
-  data_ = storage_->arrays.data();  // the leaf overlap changed
+  storage_->data = storage_->arrays.data();  // the leaf overlap changed
 }
 
 std::size_t SphereBVH::size() const {
-  return storage_->arrays.source_count;
+  return detail::BvhAccess::data(*this).count;
 }
 
 Isa SphereBVH::isa() const {
@@ -51,21 +76,36 @@ Isa SphereBVH::isa() const {
 }
 
 std::size_t SphereBVH::memory_bytes() const {
-  return storage_->arrays.memory_bytes();
+  return detail::BvhAccess::data(*this).memory_bytes;
+}
+
+// The empty tree's arrays: no nodes, no spheres. Every query misses it (count 0 takes the
+// scalar walk, which visits nothing).
+constexpr detail::BvhData kEmptyTree{};
+
+const detail::BvhData& detail::BvhAccess::data(const SphereBVH& bvh) {
+  return bvh.storage_ ? bvh.storage_->data : kEmptyTree;
+}
+
+const Kernel& detail::BvhAccess::kernel(const SphereBVH& bvh) {
+  return *bvh.kernel_;
 }
 
 Hit intersect(const SphereBVH& bvh, const Ray& ray) {
-  return bvh.kernel().bvh_intersect(bvh.data(), ray);
+  using A = detail::BvhAccess;
+  return A::kernel(bvh).bvh_intersect(A::data(bvh), ray);
 }
 
 bool occluded(const SphereBVH& bvh, const Ray& ray) {
-  return bvh.kernel().bvh_occluded(bvh.data(), ray);
+  using A = detail::BvhAccess;
+  return A::kernel(bvh).bvh_occluded(A::data(bvh), ray);
 }
 
 void intersect(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> hits) {
   if (rays.size() != hits.size())
     throw std::length_error("sphray::intersect: rays and hits differ in size");
-  bvh.kernel().bvh_intersect_stream(bvh.data(), rays.data(), hits.data(), rays.size());
+  using A = detail::BvhAccess;
+  A::kernel(bvh).bvh_intersect_stream(A::data(bvh), rays.data(), hits.data(), rays.size());
 }
 
 }  // namespace sphray

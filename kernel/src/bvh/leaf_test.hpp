@@ -9,10 +9,10 @@
 #include <xsimd/xsimd.hpp>
 
 #include "brute/sphere_lanes.hpp"
+#include "bvh/bvh_data.hpp"
 #include "bvh/robust_slab.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
-#include "sphray/bvh.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
@@ -22,12 +22,6 @@ struct LeafTest {
   using Floats = typename Batch::Floats;
   using Mask = typename Batch::Mask;
   static constexpr std::size_t kWidth = Batch::kWidth;
-
-  // Whether the leaves take the branch-free test: where a point of the tree's box lies in
-  // kBvhBranchFreeOverlap leaf boxes or more on average, a scattered ray tests several leaves, and
-  // the leaf test's branches are coin tosses (see keep_closest). random:512 has 1.49,
-  // random:4096 1.80, random:65536 2.09; rtiow-final 1.00 (docs/bvh.md, "Leaves").
-  static bool branch_free(const BvhData& bvh) { return bvh.leaf_overlap >= kBvhBranchFreeOverlap; }
 
   // Folds the hits of the leaf batch at slot i into best. Leaf order is not id order, so a tie
   // on t goes to the lower id explicitly. Two forms, the same result:
@@ -39,7 +33,7 @@ struct LeafTest {
   // learns its outcome. Scattered rays in a dense scene test several leaves, about half of
   // them with a lane whose discriminant is non-negative: there the branches are coin tosses,
   // each mispredicted one costing more than the arithmetic it skips, and coherent rays lose
-  // nothing without them. The tree picks (branch_free).
+  // nothing without them. The tree picks (QueryPlan::branch_free_leaves).
   template <bool kBranchFree>
   static void keep_closest(const BvhData& bvh, const typename Batch::RaySetup& s, std::size_t i,
                            Hit& best) {

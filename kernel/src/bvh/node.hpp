@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "bvh/bvh_data.hpp"
 #include "simd/isa_namespace.hpp"
-#include "sphray/bvh.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 

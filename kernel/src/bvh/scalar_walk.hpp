@@ -5,7 +5,7 @@
 
 #include <cstddef>
 
-#include "sphray/bvh.hpp"
+#include "bvh/bvh_data.hpp"
 
 namespace sphray::detail {
 

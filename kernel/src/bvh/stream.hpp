@@ -7,9 +7,10 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "bvh/bvh_data.hpp"
 #include "bvh/traverse.hpp"
+#include "dispatch/query_plan.hpp"
 #include "simd/isa_namespace.hpp"
-#include "sphray/bvh.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
@@ -18,17 +19,14 @@ struct TreeStream {
   using Tree = BvhTraversal<A>;
   using Batch = typename Tree::Batch;
   using Leaves = LeafTest<A>;
+  using Plan = QueryPlan;
   template <bool kAhead>
   using Walk = typename TreeWalk<A>::template Walk<kAhead>;
 
-  // hits[i] = intersect(bvh, rays[i]). On a tree larger than the caches a scattered ray waits
-  // on memory at nearly every node, and one ray's walk gives the core nothing else to do
-  // meanwhile: there kWalks rays walk in turns, a leaf each, so that their misses overlap.
-  // Elsewhere turns only add work: on a tree that fits in the caches, or for coherent rays,
-  // which find the nodes their neighbours brought in (measured: docs/bvh.md, "The stream").
-  // The tree's leaf test is picked once per call.
+  // hits[i] = intersect(bvh, rays[i]): a chunk of rays one at a time, or in turns where the
+  // plan says. The tree's leaf test is picked once per call.
   static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
-    if (Leaves::branch_free(bvh))
+    if (Plan::branch_free_leaves(bvh))
       intersect_stream<true>(bvh, rays, hits, n);
     else
       intersect_stream<false>(bvh, rays, hits, n);
@@ -36,10 +34,10 @@ struct TreeStream {
 
   template <bool kBranchFree>
   static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
-    const bool large = bvh.node_count != 0 && bvh.memory_bytes > kInTurnsAbove;
-    for (std::size_t begin = 0; begin < n; begin += kStreamChunk) {
-      const std::size_t count = n - begin > kStreamChunk ? kStreamChunk : n - begin;
-      if (large && scattered(rays + begin, count)) {
+    constexpr std::size_t kChunk = Plan::kStreamChunk;
+    for (std::size_t begin = 0; begin < n; begin += kChunk) {
+      const std::size_t count = n - begin > kChunk ? kChunk : n - begin;
+      if (Plan::walks_in_turns(bvh, rays + begin, count)) {
         intersect_in_turns<kBranchFree>(bvh, rays + begin, hits + begin, count);
       } else {
         for (std::size_t i = begin; i < begin + count; ++i)
@@ -48,24 +46,7 @@ struct TreeStream {
     }
   }
 
-  static constexpr std::size_t kWalks = 4;
-  static constexpr std::size_t kInTurnsAbove = std::size_t{4} << 20;
-  static constexpr std::size_t kStreamChunk = 1024;
-
-  // Whether rays (a chunk of a stream) scatter: fewer than half of the neighbours' directions
-  // lie within 60 degrees of each other (cosine over 1/2), judged on one pair in kSampleEvery.
-  // Camera rays and mirror reflections of them nearly all do, diffuse bounces a quarter.
-  static bool scattered(const Ray* rays, std::size_t n) {
-    std::size_t pairs = 0, close = 0;
-    for (std::size_t i = 1; i < n; i += kSampleEvery, ++pairs) {
-      const Vec3 &a = rays[i - 1].dir, &b = rays[i].dir;
-      const float ab = a.x * b.x + a.y * b.y + a.z * b.z;
-      const float aa = a.x * a.x + a.y * a.y + a.z * a.z, bb = b.x * b.x + b.y * b.y + b.z * b.z;
-      close += ab > 0.0f && 4.0f * ab * ab > aa * bb;  // cosine > 1/2, without sqrt or divide
-    }
-    return 2 * close < pairs;
-  }
-  static constexpr std::size_t kSampleEvery = 16;
+  static constexpr std::size_t kWalks = Plan::kWalks;
 
   template <bool kBranchFree>
   static void intersect_in_turns(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
@@ -82,7 +63,7 @@ struct TreeStream {
     const auto start = [&](Turn& t) {
       while (next < n) {
         const std::size_t i = next++;
-        if (!BoxTest<A>::ahead(rays[i])) {  // rare: one ray alone, through the general box test
+        if (!Plan::ahead(rays[i])) {  // rare: one ray alone, through the general box test
           hits[i] = Tree::template intersect<kBranchFree>(bvh, rays[i]);
           continue;
         }

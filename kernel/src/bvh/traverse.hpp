@@ -9,10 +9,11 @@
 #include <xsimd/xsimd.hpp>
 
 #include "brute/sphere_lanes.hpp"
+#include "bvh/bvh_data.hpp"
 #include "bvh/leaf_test.hpp"
 #include "bvh/walk.hpp"
+#include "dispatch/query_plan.hpp"
 #include "simd/isa_namespace.hpp"
-#include "sphray/bvh.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
@@ -28,7 +29,8 @@ struct BvhTraversal {
   // A leaf is one aligned batch of slots: its spheres, then never-hit padding. The leaf test's
   // form (see keep_closest) is the tree's: branch-free where leaf boxes overlap.
   static Hit intersect(const BvhData& bvh, const Ray& ray) {
-    return Leaves::branch_free(bvh) ? intersect<true>(bvh, ray) : intersect<false>(bvh, ray);
+    return QueryPlan::branch_free_leaves(bvh) ? intersect<true>(bvh, ray)
+                                              : intersect<false>(bvh, ray);
   }
 
   template <bool kBranchFree>

@@ -8,10 +8,11 @@
 #include <xsimd/xsimd.hpp>
 
 #include "bvh/box_test.hpp"
+#include "bvh/bvh_data.hpp"
 #include "bvh/node.hpp"
+#include "dispatch/query_plan.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
-#include "sphray/bvh.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
@@ -88,7 +89,7 @@ struct TreeWalk {
       leaf(0);
       return;
     }
-    if (Box::ahead(ray))
+    if (QueryPlan::ahead(ray))
       walk<true>(bvh, ray, best_t, leaf);
     else
       walk<false>(bvh, ray, best_t, leaf);

@@ -8,11 +8,14 @@
 
 #include "dispatch/cpu.hpp"
 #include "dispatch/entry_table.hpp"
-#include "dispatch/size_policy.hpp"
+#include "dispatch/query_plan.hpp"
 #include "sphray/isa.hpp"
 
 namespace sphray {
 namespace {
+
+using detail::find_kernel;
+using detail::Kernel;
 
 constexpr std::array<std::string_view, 5> kNames = {"scalar", "sse4.2", "avx2", "avx512", "neon"};
 
@@ -90,7 +93,9 @@ struct Choice {
   // scalar loop (docs/performance.md). The widest kernel no wider than the active one whose
   // width is at most max(4, 1.5 n), or the scalar one below kScalarBelow spheres.
   const Kernel* narrowest_fit(std::size_t n) const {
-    const std::size_t widest = n < detail::kScalarBelow ? 1 : std::max<std::size_t>(4, 3 * n / 2);
+    const std::size_t widest = detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(n)
+                                   ? 1
+                                   : std::max<std::size_t>(4, 3 * n / 2);
     for (const Kernel* k : supported().kernels)
       if (k != nullptr && k->width <= active->width && k->width <= widest) return k;
     return active;
@@ -129,12 +134,16 @@ std::size_t isa_width(Isa isa) {
   return 1;
 }
 
+namespace detail {
+
 const Kernel* find_kernel(Isa isa) {
   const Supported& s = supported();
   for (std::size_t i = 0; i < s.count; ++i)
     if (s.isas[i] == isa) return s.kernels[i];
   return nullptr;
 }
+
+}  // namespace detail
 
 std::span<const Isa> supported_isas() {
   const Supported& s = supported();
@@ -162,6 +171,8 @@ IsaChoice choose_isa(const char* requested) {
 Isa active_isa() {
   return choice().active->isa;
 }
+namespace detail {
+
 const Kernel& active_kernel() {
   return *choice().active;
 }
@@ -170,5 +181,7 @@ const Kernel& kernel_for_size(std::size_t sphere_count) {
   const Choice& c = choice();
   return sphere_count < Choice::kSmall ? *c.by_count[sphere_count] : *c.active;
 }
+
+}  // namespace detail
 
 }  // namespace sphray

@@ -9,7 +9,7 @@
 #include "bvh/stream.hpp"
 #include "bvh/traverse.hpp"
 #include "dispatch/entry_table.hpp"
-#include "dispatch/size_policy.hpp"
+#include "dispatch/query_plan.hpp"
 #include "simd/isa_namespace.hpp"
 #include "sphray/query.hpp"
 
@@ -20,13 +20,13 @@ struct EntryPoints {
   using Brute = BruteForce<A>;
 
   static Hit intersect(SphereView v, const Ray& ray) {
-    return v.count < kScalarBelow ? scalar::intersect(v, ray) : Brute::intersect(v, ray);
+    return QueryPlan::scalar(v.count) ? scalar::intersect(v, ray) : Brute::intersect(v, ray);
   }
   static bool occluded(SphereView v, const Ray& ray) {
-    return v.count < kScalarBelow ? scalar::occluded(v, ray) : Brute::occluded(v, ray);
+    return QueryPlan::scalar(v.count) ? scalar::occluded(v, ray) : Brute::occluded(v, ray);
   }
   static void intersect_stream(SphereView v, const Ray* rays, Hit* hits, std::size_t n) {
-    if (v.count < kScalarBelow) {
+    if (QueryPlan::scalar(v.count)) {
       for (std::size_t i = 0; i < n; ++i)
         hits[i] = scalar::intersect(v, rays[i]);
       return;
@@ -39,13 +39,14 @@ struct EntryPoints {
   // brute-force entries above return on the same spheres.
   using Tree = BvhTraversal<A>;
   static Hit bvh_intersect(const BvhData& bvh, const Ray& ray) {
-    return bvh.count < kScalarBelow ? scalar_bvh_intersect(bvh, ray) : Tree::intersect(bvh, ray);
+    return QueryPlan::scalar(bvh.count) ? scalar_bvh_intersect(bvh, ray)
+                                        : Tree::intersect(bvh, ray);
   }
   static bool bvh_occluded(const BvhData& bvh, const Ray& ray) {
-    return bvh.count < kScalarBelow ? scalar_bvh_occluded(bvh, ray) : Tree::occluded(bvh, ray);
+    return QueryPlan::scalar(bvh.count) ? scalar_bvh_occluded(bvh, ray) : Tree::occluded(bvh, ray);
   }
   static void bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
-    if (bvh.count < kScalarBelow) return scalar_bvh_intersect_stream(bvh, rays, hits, n);
+    if (QueryPlan::scalar(bvh.count)) return scalar_bvh_intersect_stream(bvh, rays, hits, n);
     TreeStream<A>::intersect_stream(bvh, rays, hits, n);
   }
 };

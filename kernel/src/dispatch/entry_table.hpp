@@ -1,10 +1,45 @@
-// The kernels this build has, one per instruction set, each defined in its own translation unit
-// compiled with exactly that instruction set's flags (see CMakeLists.txt).
+// The entry-point tables of the instruction sets this build has, each defined in its own
+// translation unit compiled with exactly that instruction set's flags (see CMakeLists.txt), and
+// the dispatcher's choice among them (dispatch.cpp).
 #pragma once
 
+#include <cstddef>
+
 #include "sphray/isa.hpp"
+#include "sphray/ray.hpp"
+#include "sphray/spheres.hpp"
 
 namespace sphray::detail {
+
+struct BvhData;  // bvh/bvh_data.hpp
+
+/// The entry points of one instruction set. Same contract as query.hpp. Internal: tests and
+/// benchmarks reach a given instruction set through it (the sphray_kernel_internals target).
+struct Kernel {
+  Isa isa;
+  std::size_t width;
+  Hit (*intersect)(SphereView spheres, const Ray& ray);
+  bool (*occluded)(SphereView spheres, const Ray& ray);
+  /// hits[i] = intersect(spheres, rays[i]) for i < count.
+  void (*intersect_stream)(SphereView spheres, const Ray* rays, Hit* hits, std::size_t count);
+  /// The SphereBVH entries (bvh.hpp) for trees of bvh_width children per node and spheres per
+  /// leaf batch.
+  std::size_t bvh_width;
+  Hit (*bvh_intersect)(const BvhData& bvh, const Ray& ray);
+  bool (*bvh_occluded)(const BvhData& bvh, const Ray& ray);
+  void (*bvh_intersect_stream)(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t count);
+};
+
+/// The kernel for isa, or nullptr if this build lacks it or this machine cannot run it.
+const Kernel* find_kernel(Isa isa);
+/// The kernel of active_isa().
+const Kernel& active_kernel();
+/// The kernel the brute-force queries in query.hpp use for a view of sphere_count spheres:
+/// active_kernel(), except that a view too small to fill two thirds of its batch goes to the
+/// widest narrower instruction set it does fill (a batch costs its full width whatever it
+/// holds), and a view of fewer than two spheres to the scalar kernel. All of them return the same
+/// hits, bit for bit.
+const Kernel& kernel_for_size(std::size_t sphere_count);
 
 extern const Kernel kScalarKernel;
 #if SPHRAY_HAS_SSE4_2

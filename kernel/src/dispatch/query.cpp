@@ -5,7 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "dispatch/size_policy.hpp"
+#include "dispatch/entry_table.hpp"
+#include "dispatch/query_plan.hpp"
 #include "sphray/isa.hpp"
 
 namespace sphray {
@@ -43,19 +44,22 @@ float away(float x, float sign) {
 // send them: a ray against one sphere takes a few nanoseconds, and looking the kernel up measured
 // a fifth of that.
 Hit intersect(SphereView spheres, const Ray& ray) {
-  if (spheres.count < detail::kScalarBelow) return scalar::intersect(spheres, ray);
-  return kernel_for_size(spheres.count).intersect(spheres, ray);
+  if (detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(spheres.count))
+    return scalar::intersect(spheres, ray);
+  return detail::kernel_for_size(spheres.count).intersect(spheres, ray);
 }
 
 bool occluded(SphereView spheres, const Ray& ray) {
-  if (spheres.count < detail::kScalarBelow) return scalar::occluded(spheres, ray);
-  return kernel_for_size(spheres.count).occluded(spheres, ray);
+  if (detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(spheres.count))
+    return scalar::occluded(spheres, ray);
+  return detail::kernel_for_size(spheres.count).occluded(spheres, ray);
 }
 
 void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hits) {
   if (rays.size() != hits.size())
     throw std::length_error("sphray::intersect: rays and hits differ in size");
-  kernel_for_size(spheres.count).intersect_stream(spheres, rays.data(), hits.data(), rays.size());
+  detail::kernel_for_size(spheres.count)
+      .intersect_stream(spheres, rays.data(), hits.data(), rays.size());
 }
 
 Surface surface(SphereView spheres, const Ray& ray, const Hit& hit) {

@@ -1,0 +1,58 @@
+// The flat arrays a SphereBVH's walks read, and the library's access to them. Internal: the
+// public header (sphray/bvh.hpp) holds only the API.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "sphray/bvh.hpp"
+#include "sphray/spheres.hpp"
+
+namespace sphray::detail {
+
+/// The flat arrays a traversal reads (see docs/bvh.md, "Layout").
+struct BvhData {
+  /// Children per node and spheres per leaf batch.
+  std::size_t width = 0;
+  /// Node k starts at nodes + k * kBvhNodeRows * width: the children's boxes as six arrays of
+  /// width floats (lo x, hi x, lo y, hi y, lo z, hi z), then width child references (uint32
+  /// bits), so that every row is aligned to a batch. Node 0 is the root.
+  const float* nodes = nullptr;
+  std::size_t node_count = 0;
+  /// The spheres in leaf order, each leaf an aligned batch of width slots: its spheres (at
+  /// most width), then never-hit padding (radius 0). ids holds each slot's id in the view the
+  /// tree was built from (kNoHit for padding).
+  SphereView spheres{nullptr, nullptr, nullptr, nullptr, 0, 0};
+  const std::uint32_t* ids = nullptr;
+  /// The number of spheres the tree was built over.
+  std::size_t count = 0;
+  /// Bytes the nodes, spheres and ids take (SphereBVH::memory_bytes()).
+  std::size_t memory_bytes = 0;
+  /// How many leaf boxes a point of the tree's box lies in, on average (0: unknown). The
+  /// traversal picks its leaf test by it.
+  float leaf_overlap = 0.0f;
+};
+
+/// Trees whose leaf_overlap reaches this take the branch-free leaf test (bvh/leaf_test.hpp).
+inline constexpr float kBvhBranchFreeOverlap = 1.5f;
+/// Floats per child in a node: six box planes and the reference.
+inline constexpr std::size_t kBvhNodeRows = 7;
+/// A child reference with this bit set is a leaf: bits 0-30 hold its first slot, a multiple
+/// of the width, plus its sphere count minus one (which is below the width). Otherwise it is a
+/// node's index.
+inline constexpr std::uint32_t kBvhLeafBit = 0x80000000u;
+inline constexpr std::uint32_t kBvhLeafFirstMask = kBvhLeafBit - 1;
+/// The deepest tree the builder makes (it switches to median splits to stay within it), which
+/// bounds the traversal stack to kBvhMaxDepth * (width - 1) + 1 entries.
+inline constexpr std::size_t kBvhMaxDepth = 64;
+
+struct Kernel;
+
+/// What the library (and its tests) see of a SphereBVH: its arrays and its kernel. A moved-from
+/// tree reads as the empty tree, which every query misses.
+struct BvhAccess {
+  static const BvhData& data(const SphereBVH& bvh);
+  static const Kernel& kernel(const SphereBVH& bvh);
+};
+
+}  // namespace sphray::detail

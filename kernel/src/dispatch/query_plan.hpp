@@ -1,0 +1,83 @@
+// The query plan: every choice a query makes at run time, in the order a ray meets them, in one
+// place. Each is a function of what the query is given (the view's size, the tree, the ray, the
+// stream), never of mutable state, and none changes a result: every path returns the same bits.
+//
+//   sphray::intersect(view, ray)      1. scalar loop or SIMD batches, and which width
+//   sphray::intersect(tree, ray)      1. scalar walk or SIMD walk
+//                                     2. the leaf test: branching or branch-free
+//                                     3. the box test: rays ahead of their origin, or any ray
+//   sphray::intersect(tree, rays, ..) 4. one ray at a time, or several walks in turns
+//
+// Measured in docs/performance.md and docs/bvh.md; docs/architecture.md follows a ray through.
+#pragma once
+
+#include <cstddef>
+
+#include "bvh/bvh_data.hpp"
+#include "simd/isa_namespace.hpp"
+#include "sphray/ray.hpp"
+
+namespace sphray::detail {
+
+// 1. Views, and trees, of fewer spheres go to the scalar loop on every path: a single sphere is
+// tested faster by it than by a batch that is mostly padding; from two spheres on a 4-lane batch
+// wins. Larger views too small to fill two thirds of the active batch go to a narrower
+// instruction set (kernel_for_size, dispatch.cpp).
+inline constexpr std::size_t kScalarBelow = 2;
+
+}  // namespace sphray::detail
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
+
+struct QueryPlan {
+  // 1. See kScalarBelow.
+  static bool scalar(std::size_t sphere_count) { return sphere_count < kScalarBelow; }
+
+  // 2. Where a point of the tree's box lies in kBvhBranchFreeOverlap leaf boxes or more on
+  // average, a scattered ray tests several leaves, and the leaf test's branches are coin
+  // tosses: the tree takes the branch-free test (bvh/leaf_test.hpp). random:512 has 1.49,
+  // random:4096 1.80, random:65536 2.09; rtiow-final 1.00 (docs/bvh.md, "Leaves").
+  static bool branch_free_leaves(const BvhData& bvh) {
+    return bvh.leaf_overlap >= kBvhBranchFreeOverlap;
+  }
+
+  // 3. Rays with tmin >= 0 and direction components of normal magnitude, whose inverses are
+  // finite: no slab distance can be NaN (that needs 0 * inf) and every entered box starts at
+  // tnear >= 0. Nearly every ray is one (camera and scattered rays start at tmin = 0 or an
+  // epsilon), and for them the box test (bvh/box_test.hpp) needs no NaN-ordered min/max chain
+  // and no sign selects.
+  static bool ahead(const Ray& ray) {
+    constexpr float kNormal = 0x1p-126f;  // 1 / kNormal = 2^126 is finite
+    return ray.tmin >= 0.0f && __builtin_fabsf(ray.dir.x) >= kNormal &&
+           __builtin_fabsf(ray.dir.y) >= kNormal && __builtin_fabsf(ray.dir.z) >= kNormal;
+  }
+
+  // 4. On a tree larger than the caches a scattered ray waits on memory at nearly every node,
+  // and one ray's walk gives the core nothing else to do meanwhile: there kWalks rays walk in
+  // turns, a leaf each, so that their misses overlap (bvh/stream.hpp). Elsewhere turns only add
+  // work: on a tree that fits in the caches, or for coherent rays, which find the nodes their
+  // neighbours brought in (docs/bvh.md, "The stream"). Decided per chunk of kStreamChunk rays.
+  static constexpr std::size_t kWalks = 4;
+  static constexpr std::size_t kStreamChunk = 1024;
+  static constexpr std::size_t kInTurnsAbove = std::size_t{4} << 20;
+  static bool walks_in_turns(const BvhData& bvh, const Ray* rays, std::size_t n) {
+    return bvh.node_count != 0 && bvh.memory_bytes > kInTurnsAbove && scattered(rays, n);
+  }
+
+  // Whether rays (a chunk of a stream) scatter: fewer than half of the neighbours' directions
+  // lie within 60 degrees of each other (cosine over 1/2), judged on one pair in kSampleEvery.
+  // Camera rays and mirror reflections of them nearly all do, diffuse bounces a quarter.
+  static constexpr std::size_t kSampleEvery = 16;
+  static bool scattered(const Ray* rays, std::size_t n) {
+    std::size_t pairs = 0, close = 0;
+    for (std::size_t i = 1; i < n; i += kSampleEvery, ++pairs) {
+      const Vec3 &a = rays[i - 1].dir, &b = rays[i].dir;
+      const float ab = a.x * b.x + a.y * b.y + a.z * b.z;
+      const float aa = a.x * a.x + a.y * a.y + a.z * a.z, bb = b.x * b.x + b.y * b.y + b.z * b.z;
+      close += ab > 0.0f && 4.0f * ab * ab > aa * bb;  // cosine > 1/2, without sqrt or divide
+    }
+    return 2 * close < pairs;
+  }
+};
+
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE
