@@ -16,8 +16,8 @@
 
 namespace sphray::bench {
 
-using detail::find_kernel;
-using detail::Kernel;
+using detail::EntryTable;
+using detail::find_entries;
 
 /// Traces rays into hits (hits.size() == rays.size()).
 using Trace = std::function<void(std::span<const Ray> rays, std::span<Hit> hits)>;

@@ -19,7 +19,7 @@ Implementation per_ray(std::string name, RayFn fn, std::size_t width) {
 }
 
 // A kernel's own stream entry point, one thread.
-Implementation isa_stream(const Kernel& kernel) {
+Implementation isa_stream(const EntryTable& kernel) {
   auto prepare = [&kernel](const Workload& w) -> Trace {
     return [&kernel, view = w.view()](std::span<const Ray> rays, std::span<Hit> hits) {
       kernel.intersect_stream(view, rays.data(), hits.data(), rays.size());
@@ -47,7 +47,7 @@ std::vector<Implementation> kernel_implementations() {
   impls.push_back(per_ray("scalar", &scalar::intersect, 1));
   for (Isa isa : supported_isas()) {
     if (isa == Isa::scalar) continue;
-    const Kernel& kernel = *find_kernel(isa);
+    const EntryTable& kernel = *find_entries(isa);
     impls.push_back(per_ray(std::string(isa_name(isa)), kernel.intersect, kernel.width));
     impls.push_back(isa_stream(kernel));
   }

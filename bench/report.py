@@ -747,7 +747,7 @@ drift by 1.5x between runs); ratios taken within one run are the figures to comp
 - Bounce rays (`rtiow-final` and `random:65536`): the rays path mode traces after the camera's,
   recorded from the renderer (section "Bounce rays").
 - Implementations: `scalar` is `sphray::scalar::intersect`; `sse4.2`, `avx2`, `avx512` are
-  each instruction set's kernel forced through its internal entry-point table (`detail::find_kernel(isa)`), per ray;
+  each instruction set's kernel forced through its internal entry-point table (`detail::find_entries(isa)`), per ray;
   `dispatch` is `sphray::intersect(view, ray)` and `dispatch stream` the span overload, split
   into chunks across a oneTBB arena of 1 or all threads by the caller; Embree is
   `RTC_GEOMETRY_TYPE_SPHERE_POINT` with one float4 (x, y, z, r) per sphere, `rtcIntersect1`

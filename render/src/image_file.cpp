@@ -1,12 +1,14 @@
 #include "sphray/render/image_file.hpp"
 
+#include "atomic_output.hpp"
+
 #include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -23,61 +25,39 @@ std::string lowercase(std::string s) {
   return s;
 }
 
-IoError io_error(const std::filesystem::path& path, const std::string& what, int error) {
-  return IoError(path.string() + ": " + what + " (" + std::strerror(error) + ")");
-}
-
-// A name beside the target that no other process or render picks: the pid and a counter.
-std::filesystem::path temporary_name(const std::filesystem::path& target) {
-  static std::atomic<unsigned> counter{0};
-  std::string name(".");
-  name.append(target.filename().string());
-  name.append(".").append(std::to_string(::getpid()));
-  name.append(".").append(std::to_string(counter++)).append(".tmp");
-  return target.parent_path() / name;
-}
-
-// Writes all of data to fd, or returns false with errno set.
-bool write_all(int fd, const void* data, std::size_t size) {
-  const char* p = static_cast<const char*>(data);
-  while (size > 0) {
-    ssize_t written = ::write(fd, p, size);
-    if (written < 0) {
-      if (errno == EINTR) continue;
-      return false;
-    }
-    p += written;
-    size -= static_cast<std::size_t>(written);
+// The PNG in one buffer from stb_image_write (malloc'd), written out whole.
+void write_png(const Image& image, detail::AtomicOutput& out, const std::filesystem::path& path) {
+  int size = 0;
+  unsigned char* png =
+      stbi_write_png_to_mem(image.rgb.data(), image.width * 3, image.width, image.height, 3, &size);
+  if (png == nullptr) throw IoError(path.string() + ": cannot encode the image");
+  try {
+    out.write(png, static_cast<std::size_t>(size));
+  } catch (...) {
+    std::free(png);
+    throw;
   }
-  return true;
+  std::free(png);
 }
 
-// stb_image_write hands us the PNG in pieces; keep them until the whole file is known.
-void append_to(void* context, void* data, int size) {
-  auto* out = static_cast<std::string*>(context);
-  out->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
-}
-
-std::string encode_png(const Image& image) {
-  std::string bytes;
-  int ok = stbi_write_png_to_func(append_to, &bytes, image.width, image.height, 3, image.rgb.data(),
-                                  image.width * 3);
-  if (ok == 0) bytes.clear();
-  return bytes;
-}
-
-// P3 as the book writes it: a header, then one "r g b" line per pixel.
-std::string encode_ppm(const Image& image) {
+// P3 as the book writes it: a header, then one "r g b" line per pixel, written in pieces of
+// about a megabyte so the text (up to 12 bytes a pixel) never has to fit in memory at once.
+void write_ppm(const Image& image, detail::AtomicOutput& out) {
+  constexpr std::size_t kChunk = std::size_t{1} << 20;
   char line[32];
   std::snprintf(line, sizeof line, "P3\n%d %d\n255\n", image.width, image.height);
   std::string text(line);
-  text.reserve(text.size() + image.rgb.size() * 4);
+  text.reserve(kChunk + sizeof line);
   for (std::size_t i = 0; i < image.rgb.size(); i += 3) {
     std::snprintf(line, sizeof line, "%d %d %d\n", image.rgb[i], image.rgb[i + 1],
                   image.rgb[i + 2]);
     text.append(line);
+    if (text.size() >= kChunk) {
+      out.write(text.data(), text.size());
+      text.clear();
+    }
   }
-  return text;
+  out.write(text.data(), text.size());
 }
 
 }  // namespace
@@ -89,44 +69,37 @@ std::optional<ImageFormat> image_format_for(const std::filesystem::path& path) {
   return std::nullopt;
 }
 
-PendingImageFile::PendingImageFile(std::filesystem::path target) : target_(std::move(target)) {
+PendingImageFile::PendingImageFile(std::filesystem::path target, bool replace_read_only)
+    : target_(std::move(target)) {
   std::optional<ImageFormat> format = image_format_for(target_);
   if (!format) {
     throw std::invalid_argument(target_.string() +
                                 ": expected an output file ending in .png or .ppm");
   }
   format_ = *format;
-  temporary_ = temporary_name(target_);
-  // 0666 less the umask, as the target would get if written directly.
-  fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd_ < 0) throw io_error(target_, "cannot create the output file", errno);
+  output_ = std::make_unique<detail::AtomicOutput>(target_, replace_read_only);
 }
 
-PendingImageFile::~PendingImageFile() {
-  if (fd_ >= 0) {
-    ::close(fd_);
-    ::unlink(temporary_.c_str());
-  }
-}
+PendingImageFile::~PendingImageFile() = default;
 
 void PendingImageFile::commit(const Image& image) {
-  std::string bytes = format_ == ImageFormat::png ? encode_png(image) : encode_ppm(image);
-  if (bytes.empty()) throw IoError(target_.string() + ": cannot encode the image");
-  if (!write_all(fd_, bytes.data(), bytes.size())) {
-    throw io_error(target_, "cannot write the output file", errno);
+  if (format_ == ImageFormat::png) {
+    write_png(image, *output_, target_);
+  } else {
+    write_ppm(image, *output_);
   }
-  int fd = fd_;
-  fd_ = -1;  // from here on the destructor must not unlink a renamed file
-  if (::close(fd) != 0) {
-    int error = errno;
-    ::unlink(temporary_.c_str());
-    throw io_error(target_, "cannot write the output file", error);
-  }
-  if (::rename(temporary_.c_str(), target_.c_str()) != 0) {
-    int error = errno;
-    ::unlink(temporary_.c_str());
-    throw io_error(target_, "cannot replace the output file", error);
-  }
+  output_->commit();
+}
+
+std::size_t encoding_peak_bytes(ImageFormat format, int width, int height) {
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  const std::size_t image = 3 * pixels;
+  if (format == ImageFormat::ppm) return image + (std::size_t{2} << 20);  // the chunk
+  // stb_image_write: the filtered rows (a byte more per row), then deflate's output, which
+  // grows by doubling (up to twice its final size, at most about the input's), while the rows
+  // are still held; then the PNG copy of it.
+  const std::size_t filtered = image + static_cast<std::size_t>(height);
+  return image + filtered + 2 * filtered + (std::size_t{4} << 20);  // and its hash tables
 }
 
 void write_image(const Image& image, const std::filesystem::path& path) {

@@ -169,7 +169,11 @@ Scene load_scene_or_preset(std::string_view name_or_file) {
                         name_or_file == "rtiow-final" || name_or_file.starts_with("random:");
   if (is_preset_name) return make_preset(name_or_file);
   std::filesystem::path file(name_or_file);
-  if (file.extension() != ".json" && !std::filesystem::exists(file)) {
+  if (name_or_file == "-") return load_scene(file);  // standard input
+  // The non-throwing exists(): a name too long, a symbolic link loop or a folder that cannot
+  // be searched is an error of the file, which load_scene reports, not a missing file.
+  std::error_code error;
+  if (file.extension() != ".json" && !std::filesystem::exists(file, error) && !error) {
     return make_preset(name_or_file);  // neither a preset nor a file: the preset message
   }
   return load_scene(file);

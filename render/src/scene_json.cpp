@@ -1,20 +1,15 @@
 // Scene files: JSON read with nlohmann_json, checked field by field, every refusal one line
-// naming the file, the line and column, and what was expected there.
-//
-// nlohmann_json 3.11 keeps no source positions in its values, so the checks run on the parsed
-// document and, only when one fails, a second SAX pass over the text finds where the offending
-// value (or key) starts.
-#include <cerrno>
+// naming the file, the line and column, and what was expected there. Positions are found only
+// when a check fails (json_position.hpp).
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <sstream>
 #include <string>
 
+#include "json_position.hpp"
+#include "scene_text.hpp"
 #include "sphray/render/camera.hpp"
 #include "sphray/render/scene.hpp"
 
@@ -51,6 +46,15 @@ float number_at(const json& value, const std::string& pointer, const std::string
   float x = value.get<float>();
   if (!std::isfinite(x)) fail(pointer, what + " to be a finite number (as a float)");
   return x;
+}
+
+// The largest camera coordinate and sphere radius a scene may give: their squares (and the
+// kernel's products of them) must stay far inside float's range, or every ray turns NaN (a
+// lookfrom beyond about 1.8e19) or a sphere is never drawn (r^2 infinite).
+constexpr float kMaxMagnitude = 1e17f;
+
+std::string magnitude_limit() {
+  return "at most 1e17 in magnitude (its square must fit a float)";
 }
 
 Vec3 vec3_at(const json& value, const std::string& pointer, const std::string& what) {
@@ -96,16 +100,26 @@ int side_at(const json& value, const std::string& pointer, const std::string& wh
   return value.get<int>();
 }
 
+// A camera vector whose components the camera may square and subtract in float.
+Vec3 camera_vec3_at(const json& value, const std::string& pointer, const std::string& what) {
+  Vec3 v = vec3_at(value, pointer, what);
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (std::abs(v[static_cast<int>(i)]) > kMaxMagnitude)
+      fail(pointer + "/" + std::to_string(i), what + " components " + magnitude_limit());
+  }
+  return v;
+}
+
 CameraSpec camera_at(const json& value) {
   const json& camera =
       object_at(value, "/camera", "\"camera\"",
                 {"lookfrom", "lookat", "vup", "vfov", "defocus_angle", "focus_dist"});
   CameraSpec spec;
   if (camera.contains("lookfrom"))
-    spec.lookfrom = vec3_at(camera["lookfrom"], "/camera/lookfrom", "\"lookfrom\"");
+    spec.lookfrom = camera_vec3_at(camera["lookfrom"], "/camera/lookfrom", "\"lookfrom\"");
   if (camera.contains("lookat"))
-    spec.lookat = vec3_at(camera["lookat"], "/camera/lookat", "\"lookat\"");
-  if (camera.contains("vup")) spec.vup = vec3_at(camera["vup"], "/camera/vup", "\"vup\"");
+    spec.lookat = camera_vec3_at(camera["lookat"], "/camera/lookat", "\"lookat\"");
+  if (camera.contains("vup")) spec.vup = camera_vec3_at(camera["vup"], "/camera/vup", "\"vup\"");
   if (camera.contains("vfov")) spec.vfov = number_at(camera["vfov"], "/camera/vfov", "\"vfov\"");
   if (camera.contains("defocus_angle"))
     spec.defocus_angle =
@@ -191,6 +205,15 @@ Sky sky_at(const json& value) {
   return sky;
 }
 
+void check_radius(const json& value, float radius, const std::string& pointer) {
+  if (radius == 0.0f && value.get<double>() > 0.0) {
+    fail(pointer, "\"radius\" to be positive as a float, got " + value.dump() +
+                      ", which underflows float to 0");
+  }
+  if (!(radius > 0.0f)) fail(pointer, "\"radius\" to be positive, got " + value.dump());
+  if (radius > kMaxMagnitude) fail(pointer, "\"radius\" to be " + magnitude_limit());
+}
+
 void add_sphere_at(Scene& scene, const json& value, const std::string& pointer) {
   const json& sphere =
       object_at(value, pointer, "a sphere", {"center", "radius", "color", "material"});
@@ -198,8 +221,7 @@ void add_sphere_at(Scene& scene, const json& value, const std::string& pointer) 
   if (!sphere.contains("radius")) fail(pointer, "a sphere to have a \"radius\"");
   Vec3 center = vec3_at(sphere["center"], pointer + "/center", "\"center\"");
   float radius = number_at(sphere["radius"], pointer + "/radius", "\"radius\"");
-  if (!(radius > 0.0f))
-    fail(pointer + "/radius", "\"radius\" to be positive, got " + sphere["radius"].dump());
+  check_radius(sphere["radius"], radius, pointer + "/radius");
   Vec3 color{0.5f, 0.5f, 0.5f};
   if (sphere.contains("color")) {
     color = vec3_at(sphere["color"], pointer + "/color", "\"color\"");
@@ -250,151 +272,9 @@ Scene scene_from(const json& root, const std::string& source) {
   return scene;
 }
 
-// An input iterator for nlohmann's SAX parser that counts the characters read so far.
-class CountingIterator {
- public:
-  using iterator_category = std::forward_iterator_tag;
-  using value_type = char;
-  using difference_type = std::ptrdiff_t;
-  using pointer = const char*;
-  using reference = const char&;
-
-  CountingIterator(const char* p, const char* base, std::size_t* read)
-      : p_(p), base_(base), read_(read) {}
-  reference operator*() const { return *p_; }
-  CountingIterator& operator++() {
-    ++p_;
-    *read_ = static_cast<std::size_t>(p_ - base_);
-    return *this;
-  }
-  CountingIterator operator++(int) {
-    CountingIterator old = *this;
-    ++*this;
-    return old;
-  }
-  bool operator==(const CountingIterator& other) const { return p_ == other.p_; }
-
- private:
-  const char* p_;
-  const char* base_;
-  std::size_t* read_;
-};
-
-// A SAX handler that notes how far the parser had read when it finished the key or the value
-// at one JSON pointer: the end of that token (plus, after a number, one character of lookahead).
-class PointerFinder : public nlohmann::json_sax<json> {
- public:
-  PointerFinder(std::string target, bool at_key, const std::size_t* read)
-      : target_(std::move(target)), at_key_(at_key), read_(read) {}
-  std::optional<std::size_t> found() const { return found_; }
-
-  bool null() override { return value(); }
-  bool boolean(bool) override { return value(); }
-  bool number_integer(number_integer_t) override { return value(); }
-  bool number_unsigned(number_unsigned_t) override { return value(); }
-  bool number_float(number_float_t, const string_t&) override { return value(); }
-  bool string(string_t&) override { return value(); }
-  bool binary(binary_t&) override { return value(); }
-  bool start_object(std::size_t) override { return open(false); }
-  bool start_array(std::size_t) override { return open(true); }
-  bool end_object() override { return close(); }
-  bool end_array() override { return close(); }
-  bool key(string_t& name) override {
-    frames_.back().key = name;
-    if (at_key_ && path() == target_) found_ = *read_;
-    return !found_;
-  }
-  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
-    return false;
-  }
-
- private:
-  struct Frame {
-    std::string path;
-    bool is_array;
-    std::size_t index = 0;
-    std::string key;
-  };
-
-  std::string path() const {
-    if (frames_.empty()) return "";
-    const Frame& f = frames_.back();
-    return f.path + "/" + (f.is_array ? std::to_string(f.index) : f.key);
-  }
-  // Every value, scalar or container, starts at the current path.
-  bool value() {
-    if (!at_key_ && path() == target_) found_ = *read_;
-    if (!frames_.empty() && frames_.back().is_array) ++frames_.back().index;
-    return !found_;
-  }
-  bool open(bool is_array) {
-    std::string here = path();
-    if (!at_key_ && here == target_) found_ = *read_;
-    frames_.push_back({here, is_array, 0, {}});
-    return !found_;
-  }
-  bool close() {
-    frames_.pop_back();
-    if (!frames_.empty() && frames_.back().is_array) ++frames_.back().index;
-    return true;
-  }
-
-  std::string target_;
-  bool at_key_;
-  const std::size_t* read_;
-  std::vector<Frame> frames_;
-  std::optional<std::size_t> found_;
-};
-
-bool is_space(char c) {
-  return c == ' ' || c == '\t' || c == '\n' || c == '\r';
-}
-
-// Where the token that ends at or just before `read` characters starts.
-std::size_t token_start(std::string_view text, std::size_t read) {
-  std::size_t last = std::min(read, text.size());
-  // A number is finished by one character of lookahead: whitespace or a delimiter.
-  while (last > 0 && (is_space(text[last - 1]) || std::strchr(",:]}", text[last - 1]) != nullptr)) {
-    --last;
-  }
-  if (last == 0) return 0;
-  std::size_t i = last - 1;
-  if (text[i] == '{' || text[i] == '[') return i;
-  if (text[i] == '"') {
-    for (std::size_t j = i; j-- > 0;) {
-      if (text[j] == '"' && (j == 0 || text[j - 1] != '\\')) return j;
-    }
-    return 0;
-  }
-  while (i > 0 && (std::isalnum(static_cast<unsigned char>(text[i - 1])) || text[i - 1] == '.' ||
-                   text[i - 1] == '+' || text[i - 1] == '-')) {
-    --i;
-  }
-  return i;
-}
-
-std::string line_column(std::string_view text, std::size_t offset) {
-  std::size_t line = 1, column = 1;
-  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
-    }
-  }
-  return std::to_string(line) + ":" + std::to_string(column);
-}
-
 std::string locate(std::string_view text, const Invalid& invalid) {
-  if (invalid.pointer.empty() && !invalid.at_key) return "1:1";
-  std::size_t read = 0;
-  CountingIterator first(text.data(), text.data(), &read);
-  CountingIterator last(text.data() + text.size(), text.data(), &read);
-  PointerFinder finder(invalid.pointer, invalid.at_key, &read);
-  json::sax_parse(first, last, &finder);
-  if (!finder.found()) return "1:1";
-  return line_column(text, token_start(text, *finder.found()));
+  return json_position::line_column(
+      text, json_position::find_pointer(text, invalid.pointer, invalid.at_key));
 }
 
 // nlohmann's parse_error reads "[json.exception.parse_error.101] parse error at line 2,
@@ -406,53 +286,18 @@ std::string parse_error_detail(const json::parse_error& e) {
   return colon == std::string::npos ? message : message.substr(colon + 2);
 }
 
-// Where a SAX pass over the text first fails. json::parse reports a number beyond double's range
-// ("1e400") as out_of_range 406, which carries no position; the SAX interface gives it one.
-class FirstError : public nlohmann::json_sax<json> {
- public:
-  std::size_t offset() const { return offset_; }
-  bool null() override { return true; }
-  bool boolean(bool) override { return true; }
-  bool number_integer(number_integer_t) override { return true; }
-  bool number_unsigned(number_unsigned_t) override { return true; }
-  bool number_float(number_float_t, const string_t&) override { return true; }
-  bool string(string_t&) override { return true; }
-  bool binary(binary_t&) override { return true; }
-  bool start_object(std::size_t) override { return true; }
-  bool key(string_t&) override { return true; }
-  bool end_object() override { return true; }
-  bool start_array(std::size_t) override { return true; }
-  bool end_array() override { return true; }
-  bool parse_error(std::size_t position, const std::string&,
-                   const nlohmann::detail::exception&) override {
-    offset_ = position > 0 ? position - 1 : 0;
-    return false;
-  }
-
- private:
-  std::size_t offset_ = 0;
-};
-
-std::string read_file(const std::filesystem::path& file) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(file, ec)) {
-    throw SceneError(file.string() + ": expected a scene file, got a directory");
-  }
-  std::ifstream in(file, std::ios::binary);
-  if (!in) {
-    throw SceneError(file.string() + ": cannot read the scene file (" + std::strerror(errno) + ")");
-  }
-  std::ostringstream content;
-  content << in.rdbuf();
-  if (in.bad()) throw SceneError(file.string() + ": cannot read the scene file");
-  return std::move(content).str();
-}
-
 }  // namespace
 
 Scene parse_scene(std::string_view text, const std::string& source) {
   if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
     throw SceneError(source + ": expected a JSON scene, the file is empty");
+  }
+  // The format nests four levels (the scene, "spheres", a sphere, its "center"); a limit far
+  // above that keeps what nlohmann builds for a hostile file (about 100 bytes per level) small.
+  if (auto deep = json_position::find_nesting_beyond(text, kMaxSceneNesting)) {
+    throw SceneError(source + ":" + json_position::line_column(text, *deep) +
+                     ": expected at most " + std::to_string(kMaxSceneNesting) +
+                     " levels of nested arrays and objects");
   }
   json root;
   try {
@@ -460,15 +305,21 @@ Scene parse_scene(std::string_view text, const std::string& source) {
   } catch (const json::parse_error& e) {
     // e.byte counts the characters read, the offending one included.
     std::size_t offset = e.byte > 0 ? e.byte - 1 : 0;
-    throw SceneError(source + ":" + line_column(text, offset) + ": expected valid JSON (" +
-                     parse_error_detail(e) + ")");
+    throw SceneError(source + ":" + json_position::line_column(text, offset) +
+                     ": expected valid JSON (" + parse_error_detail(e) + ")");
   } catch (const json::out_of_range& e) {
-    FirstError where;
-    json::sax_parse(text, &where);
     const std::string message = e.what();  // "[json.exception.out_of_range.406] number ..."
-    throw SceneError(source + ":" + line_column(text, token_start(text, where.offset() + 1)) +
+    throw SceneError(source + ":" +
+                     json_position::line_column(text, json_position::first_error(text)) +
                      ": expected a number within double's range (" +
                      message.substr(message.find("] ") + 2) + ")");
+  }
+  // nlohmann keeps the last of repeated keys; a scene file that names a field twice is refused
+  // rather than read in a way its author may not have meant.
+  if (auto duplicate = json_position::find_duplicate_key(text)) {
+    throw SceneError(source + ":" + json_position::line_column(text, duplicate->offset) +
+                     ": expected each key once in an object, got " + json(duplicate->key).dump() +
+                     " again");
   }
   try {
     return scene_from(root, source);
@@ -478,7 +329,9 @@ Scene parse_scene(std::string_view text, const std::string& source) {
 }
 
 Scene load_scene(const std::filesystem::path& file) {
-  return parse_scene(read_file(file), file.string());
+  if (file == kStandardInputName)
+    return parse_scene(read_scene_stdin(), std::string(kStandardInputSource));
+  return parse_scene(read_scene_file(file), file.string());
 }
 
 }  // namespace sphray::render

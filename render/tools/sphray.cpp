@@ -1,19 +1,25 @@
 // The sphray command: render, scenes, info. A thin shell over sphray::render; every failure is
-// one line on stderr and an exit status: 2 for bad usage or input, 1 for an I/O failure.
+// one line on stderr and an exit status: 2 for bad usage or input (refused before any work),
+// 1 for a failure during the run (I/O, memory). No exception leaves main.
 #include <unistd.h>
 
-#include <csignal>
-#include <cstring>
-
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
+#include <limits>
 #include <mutex>
+#include <new>
 #include <string>
+#include <thread>
 
 #include "sphray/render/image_file.hpp"
+#include "sphray/render/memory_check.hpp"
 #include "sphray/render/renderer.hpp"
 #include "sphray/render/scene.hpp"
 #include "sphray/sphray.hpp"
@@ -37,7 +43,85 @@ struct RenderArgs {
   double time_limit = 0.0;
   std::string output = "sphray.png";
   bool quiet = false;
+  bool force = false;  // replace a read-only output
 };
+
+void report(const std::string& message) {
+  std::fprintf(stderr, "sphray: %s\n", message.c_str());
+}
+
+// Standard output is flushed and checked before the exit status is decided: `sphray scenes >
+// /dev/full` or a closed stdout is a failed run, not a silent success.
+int flush_stdout(int status) {
+  errno = 0;
+  std::cout.flush();
+  const bool failed = std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout;
+  if (!failed) return status;
+  const int error = errno;
+  report(std::string("standard output: cannot write (") +
+         (error != 0 ? std::strerror(error) : "write error") + ")");
+  return status == 0 ? kExitIo : status;
+}
+
+// --seed takes every value of a std::uint64_t in decimal and nothing else: CLI11 would wrap
+// "-1" to 2^64 - 1 and take "1e23" as a saturated double.
+CLI::Validator seed_range() {
+  const std::string range = "0 to " + std::to_string(std::numeric_limits<std::uint64_t>::max());
+  return CLI::Validator(
+      [range](std::string& text) -> std::string {
+        std::uint64_t value = 0;
+        const char* end = text.data() + text.size();
+        auto [stop, error] = std::from_chars(text.data(), end, value);
+        const bool digits_only = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+          return c >= '0' && c <= '9';
+        });
+        if (digits_only && error == std::errc() && stop == end) return "";
+        return "Value " + text + " not in range " + range;
+      },
+      "UINT64", "seed range");
+}
+
+// The size asked for: the scene's, or with one side given, the other in the scene's aspect
+// (floored, as the scene file's rule does it), within 1..kMaxImageSide.
+void choose_size(const RenderArgs& args, const Scene& scene, RenderOptions& options) {
+  auto other_side = [](int given, int scene_given, int scene_other) {
+    const long long side = static_cast<long long>(given) * scene_other / scene_given;
+    return static_cast<int>(std::clamp<long long>(side, 1, kMaxImageSide));
+  };
+  options.width = args.width > 0    ? args.width
+                  : args.height > 0 ? other_side(args.height, scene.height, scene.width)
+                                    : scene.width;
+  options.height = args.height > 0  ? args.height
+                   : args.width > 0 ? other_side(args.width, scene.width, scene.height)
+                                    : scene.height;
+}
+
+// Worker threads: more than the machine runs at once buys nothing, and oneTBB warns on stderr
+// (even under --quiet) when asked for more workers than it allows; the image is the same.
+int worker_threads(int requested) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return requested == 0 ? 0 : std::min(requested, cores);
+}
+
+// Memory for the image and for encoding it, and headroom for the worker threads' stacks and
+// the allocator: checked before the render, so a render that cannot finish is not started.
+void require_image_memory(const RenderArgs& args, const RenderOptions& options) {
+  constexpr std::size_t kMiB = std::size_t{1} << 20;
+  const std::size_t threads = options.threads > 0
+                                  ? static_cast<std::size_t>(options.threads)
+                                  : std::max(1u, std::thread::hardware_concurrency());
+  // Path mode also keeps every pixel's radiance in float twice: the sums and the means.
+  const std::size_t path_buffers = options.mode == Mode::path
+                                       ? 2 * sizeof(sphray::Vec3) *
+                                             static_cast<std::size_t>(options.width) *
+                                             static_cast<std::size_t>(options.height)
+                                       : 0;
+  const std::size_t bytes =
+      encoding_peak_bytes(*image_format_for(args.output), options.width, options.height) +
+      path_buffers + 64 * kMiB + threads * 8 * kMiB;
+  require_memory(bytes, args.output + ": a " + std::to_string(options.width) + "x" +
+                            std::to_string(options.height) + " image");
+}
 
 std::string format_rate(double per_second);
 
@@ -80,24 +164,6 @@ class ProgressBar {
   Clock::time_point last_{};
 };
 
-// Ctrl-C or a kill during a render: remove the temporary output file, then die of the signal
-// as usual. unlink is async-signal-safe; the path is copied into static storage beforehand.
-char pending_path[4096];
-
-extern "C" void remove_pending_and_reraise(int signal) {
-  if (pending_path[0] != '\0') ::unlink(pending_path);
-  std::signal(signal, SIG_DFL);
-  std::raise(signal);
-}
-
-void remove_on_signal(const PendingImageFile& file) {
-  std::string path = file.temporary().string();
-  if (path.size() >= sizeof pending_path) return;
-  std::memcpy(pending_path, path.c_str(), path.size() + 1);
-  for (int signal : {SIGINT, SIGTERM, SIGHUP})
-    std::signal(signal, remove_pending_and_reraise);
-}
-
 std::string format_rate(double per_second) {
   char text[32];
   if (per_second >= 1e6) {
@@ -133,24 +199,22 @@ void print_summary(const RenderArgs& args, const RenderOptions& options, const R
 int run_render(const RenderArgs& args) {
   // Everything that can be refused is refused before the scene is built or a ray is traced.
   if (!image_format_for(args.output)) {
-    std::fprintf(stderr, "sphray: %s: expected an output file ending in .png or .ppm\n",
-                 args.output.c_str());
+    report(args.output + ": expected an output file ending in .png or .ppm");
     return kExitUsage;
   }
   try {
     Scene scene = load_scene_or_preset(args.scene);
     RenderOptions options;
     options.mode = *parse_mode(args.mode);  // CLI11 checked the name
-    options.width = args.width > 0 ? args.width : scene.width;
-    options.height = args.height > 0 ? args.height : scene.height;
+    choose_size(args, scene, options);
     options.spp = args.spp;
-    options.threads = args.threads;
+    options.threads = worker_threads(args.threads);
     options.seed = args.seed;
     options.max_depth = args.max_depth;
     options.time_limit = args.time_limit;
     options.accel = *parse_accel(args.accel);  // CLI11 checked the name
-    PendingImageFile output(args.output);
-    remove_on_signal(output);
+    PendingImageFile output(args.output, args.force);
+    require_image_memory(args, options);
     RenderStats stats;
     Image image;
     {
@@ -166,13 +230,21 @@ int run_render(const RenderArgs& args) {
     if (!args.quiet) print_summary(args, options, stats);
     return 0;
   } catch (const SceneError& e) {
-    std::fprintf(stderr, "sphray: %s\n", e.what());
+    report(e.what());
     return kExitUsage;
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "sphray: %s\n", e.what());
+  } catch (const std::invalid_argument& e) {  // OutputRefused among them
+    report(e.what());
     return kExitUsage;
   } catch (const IoError& e) {
-    std::fprintf(stderr, "sphray: %s\n", e.what());
+    report(e.what());
+    return kExitIo;
+  } catch (const InsufficientMemory& e) {
+    report(e.what());
+    return kExitIo;
+  } catch (const std::bad_alloc&) {
+    // The estimate leaves headroom, but a scene of millions of spheres or another process can
+    // still take what was there; the pending file is gone by now (its destructor ran).
+    report(args.scene + ": out of memory while building or rendering the scene");
     return kExitIo;
   }
 }
@@ -227,7 +299,9 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_option("--threads,-j", args.threads, "Worker threads (0: all cores)")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();
-  render.add_option("--seed", args.seed, "Seed of the sample jitter")->capture_default_str();
+  render.add_option("--seed", args.seed, "Seed of the sample jitter (0 to 2^64 - 1)")
+      ->check(seed_range())
+      ->capture_default_str();
   render.add_option("--max-depth", args.max_depth, "Path mode: rays per path at most")
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
@@ -245,11 +319,10 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->check(CLI::IsMember(accel_names()))
       ->capture_default_str();
   render.add_flag("--quiet,-q", args.quiet, "No progress bar, no summary line");
+  render.add_flag("--force,-f", args.force, "Replace the output even if it is read-only");
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"sphray: render spheres with the sphray kernel", "sphray"};
   app.set_version_flag("--version", std::string(sphray::kVersion));
   app.require_subcommand(0, 1);
@@ -264,8 +337,7 @@ int main(int argc, char** argv) {
     return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
     std::string message = e.what();
-    std::fprintf(stderr, "sphray: %s (see sphray --help)\n",
-                 message.substr(0, message.find('\n')).c_str());
+    report(message.substr(0, message.find('\n')) + " (see sphray --help)");
     return kExitUsage;
   }
   if (*scenes) return run_scenes();
@@ -273,4 +345,22 @@ int main(int argc, char** argv) {
   if (*render) return run_render(args);
   std::cout << app.help();
   return kExitUsage;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Before any temporary exists: a fatal signal removes it (an ignored one stays ignored).
+  remove_temporaries_on_signals();
+  int status = kExitIo;
+  try {
+    status = run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    report("out of memory");
+  } catch (const std::exception& e) {
+    report(std::string("unexpected error: ") + e.what());
+  } catch (...) {
+    report("unexpected error");
+  }
+  return flush_stdout(status);
 }

@@ -32,9 +32,9 @@
 namespace {
 
 using namespace sphray;
-using detail::find_kernel;
-using detail::Kernel;
-using detail::kernel_for_size;
+using detail::entries_for_size;
+using detail::EntryTable;
+using detail::find_entries;
 
 constexpr std::size_t kMaxSpheres = 40;
 constexpr std::size_t kMaxRays = 4;
@@ -379,7 +379,7 @@ struct Tally {
 };
 Tally tally;
 
-void check_kernel(const Kernel& k, const std::vector<Ray>& rays, SphereView view,
+void check_kernel(const EntryTable& k, const std::vector<Ray>& rays, SphereView view,
                   const std::vector<std::vector<Truth>>& truths, std::size_t first) {
   const char* name = isa_name(k.isa).data();
   std::vector<Hit> stream(rays.size());
@@ -414,7 +414,7 @@ bool decidable(std::span<const Truth> truths) {
 // float's range, a ray grazing within rounding), the brute-force kernel's answer is itself
 // rounding noise, which the box test cannot reproduce; the tree's answer must then pass the
 // same checks as every other answer.
-void check_bvh(const Kernel& k, const std::vector<Ray>& rays, SphereView view,
+void check_bvh(const EntryTable& k, const std::vector<Ray>& rays, SphereView view,
                const std::vector<std::vector<Truth>>& truths, const SphereBVH& bvh) {
   const char* name = isa_name(k.isa).data();
   std::vector<Hit> stream(rays.size());
@@ -462,16 +462,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       truths[i].push_back(truth(in.rays[i], in.x[s], in.y[s], in.z[s], in.r[s]));
 
   const TightArrays tight(in, in.misalign, 0, 0.0f);
-  std::vector<const Kernel*> kernels;
+  std::vector<const EntryTable*> kernels;
   for (Isa isa : supported_isas())
-    kernels.push_back(find_kernel(isa));
+    kernels.push_back(find_entries(isa));
 
   for (std::size_t m = 0; m <= n; ++m) {
     const SphereView view = tight.suffix(m);
-    for (const Kernel* k : kernels)
+    for (const EntryTable* k : kernels)
       check_kernel(*k, in.rays, view, truths, n - m);
     for (std::size_t i = 0; i < in.rays.size(); ++i)
-      if (!same(intersect(view, in.rays[i]), kernel_for_size(m).intersect(view, in.rays[i])))
+      if (!same(intersect(view, in.rays[i]), entries_for_size(m).intersect(view, in.rays[i])))
         fail("the dispatched query differs from its kernel", i, m, "dispatch");
   }
 
@@ -480,7 +480,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (in.padded) {
     const std::size_t padding = (16 - n % 16) % 16;
     const TightArrays padded(in, in.misalign, padding, in.x.empty() ? NAN : in.x.back());
-    for (const Kernel* k : kernels)
+    for (const EntryTable* k : kernels)
       check_kernel(*k, in.rays, padded.suffix(n, padding), truths, 0);
   }
 
@@ -492,7 +492,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::vector<std::vector<Truth>> reversed_truths(in.rays.size());
   for (std::size_t i = 0; i < in.rays.size(); ++i)
     reversed_truths[i].assign(truths[i].rbegin(), truths[i].rend());
-  for (const Kernel* k : kernels) {
+  for (const EntryTable* k : kernels) {
     SphereBVH bvh(tight.suffix(n), k->isa, BvhBuildOptions{1});
     check_bvh(*k, in.rays, tight.suffix(n), truths, bvh);
     bvh.refit(reversed);

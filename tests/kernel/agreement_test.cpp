@@ -58,7 +58,7 @@ struct Tally {
   std::size_t rays = 0, explained = 0;
 };
 
-void compare(const Kernel& k, SphereView v, const std::vector<Ray>& rays, Tally& tally) {
+void compare(const EntryTable& k, SphereView v, const std::vector<Ray>& rays, Tally& tally) {
   std::vector<Hit> streamed(rays.size());
   k.intersect_stream(v, rays.data(), streamed.data(), rays.size());
   for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -79,7 +79,7 @@ void compare(const Kernel& k, SphereView v, const std::vector<Ray>& rays, Tally&
 class Agreement : public ::testing::TestWithParam<Isa> {};
 
 TEST_P(Agreement, MatchesScalarReferenceOnAMillionRays) {
-  const Kernel* k = find_kernel(GetParam());
+  const EntryTable* k = find_entries(GetParam());
   if (k == nullptr) GTEST_SKIP() << "this machine cannot run " << isa_name(GetParam());
   std::mt19937 rng(20261122);
   Tally tally;

@@ -127,7 +127,7 @@ struct Tally {
 
 // The tree built for k's instruction set against k's brute force on every ray: the same id and
 // the same t bit for bit (both run the same sphere math), and the same occlusion.
-void compare(const Kernel& k, const SphereView& v, const SphereBVH& bvh,
+void compare(const EntryTable& k, const SphereView& v, const SphereBVH& bvh,
              const std::vector<Ray>& rays, Tally& tally, const std::string& what) {
   std::vector<Hit> streamed(rays.size());
   intersect(bvh, rays, streamed);
@@ -145,13 +145,13 @@ void compare(const Kernel& k, const SphereView& v, const SphereBVH& bvh,
   tally.rays += rays.size();
 }
 
-std::string label(const Kernel& k, Kind kind, std::size_t n) {
+std::string label(const EntryTable& k, Kind kind, std::size_t n) {
   return std::string(isa_name(k.isa)) + " " + kind_name(kind) + " n=" + std::to_string(n);
 }
 
 // Rays per scene: brute force over n spheres is the expensive side, so fewer rays on larger
 // scenes, but never fewer than 2000.
-std::size_t ray_count(const Kernel& k, std::size_t n) {
+std::size_t ray_count(const EntryTable& k, std::size_t n) {
   const double budget = k.isa == Isa::scalar ? 2e7 : 1e8;
   return test::scaled(
       std::clamp<std::size_t>(static_cast<std::size_t>(budget / double(n + 1)), 2000, 20000));
@@ -160,7 +160,7 @@ std::size_t ray_count(const Kernel& k, std::size_t n) {
 class BvhAgreement : public ::testing::TestWithParam<Isa> {};
 
 TEST_P(BvhAgreement, MatchesBruteForceOnEveryKindAndSize) {
-  const Kernel* k = find_kernel(GetParam());
+  const EntryTable* k = find_entries(GetParam());
   if (k == nullptr) GTEST_SKIP() << "this machine cannot run " << isa_name(GetParam());
   std::mt19937 rng(5);
   Tally tally;
@@ -209,7 +209,7 @@ INSTANTIATE_TEST_SUITE_P(EveryIsa, BvhAgreement,
 // tree with a tree built on the moved spheres and with brute force.
 TEST(Bvh, RefitThenQueryEqualsRebuildThenQuery) {
   std::mt19937 rng(7);
-  for (const Kernel* k : test::runnable_kernels()) {
+  for (const EntryTable* k : test::runnable_kernels()) {
     for (std::size_t n : {1u, 9u, 1000u, 30000u}) {
       test::LooseSpheres scene = make_scene(Kind::uniform, n, rng);
       SphereBVH refitted(scene.view(), k->isa);
@@ -278,7 +278,7 @@ TEST(Bvh, StreamGivesEachRayExactlyTheSingleRayHit) {
   std::mt19937 rng(12);
   for (Kind kind : {Kind::uniform, Kind::clustered}) {
     const test::LooseSpheres scene = make_scene(kind, 200000, rng);
-    for (const Kernel* k : test::runnable_kernels()) {
+    for (const EntryTable* k : test::runnable_kernels()) {
       const SphereBVH bvh(scene.view(), k->isa);
       if (k->isa != Isa::scalar) {
         ASSERT_GT(bvh.memory_bytes(), std::size_t{4} << 20) << "too small for the walk in turns";
@@ -307,7 +307,7 @@ TEST(Bvh, StreamGivesEachRayExactlyTheSingleRayHit) {
 
 // The measure that picks the leaf test: the leaf boxes' summed volume over the root box's.
 TEST(Bvh, LeafOverlapIsTheLeafBoxesVolumeOverTheRootBox) {
-  for (const Kernel* k : test::runnable_kernels()) {
+  for (const EntryTable* k : test::runnable_kernels()) {
     const std::size_t w = k->bvh_width;
     // One leaf: its box is the root box.
     test::LooseSpheres few;
@@ -361,7 +361,7 @@ TEST(Bvh, EmptyTreesMissAndStreamsCheckTheirSize) {
 TEST(Bvh, MemoryStaysUnderFortyBytesPerSphere) {
   std::mt19937 rng(11);
   const test::LooseSpheres scene = make_scene(Kind::uniform, 100000, rng);
-  for (const Kernel* k : test::runnable_kernels()) {
+  for (const EntryTable* k : test::runnable_kernels()) {
     const SphereBVH bvh(scene.view(), k->isa);
     const double per_sphere = double(bvh.memory_bytes()) / double(bvh.size());
     std::cout << "[ memory   ] " << isa_name(k->isa) << ": " << per_sphere << " bytes per sphere\n";

@@ -26,7 +26,7 @@ void expect_miss_everywhere(const test::LooseSpheres& s, const Ray& ray) {
     // The miss reports tmax itself (NaN compares unequal to itself, so compare its bits).
     EXPECT_EQ(std::bit_cast<std::uint32_t>(h.t), std::bit_cast<std::uint32_t>(ray.tmax));
   };
-  for (const Kernel* k : test::runnable_kernels()) {
+  for (const EntryTable* k : test::runnable_kernels()) {
     SCOPED_TRACE(test::name_of(k) + " n " + std::to_string(s.count));
     expect_miss(k->intersect(s.view(), ray));
     EXPECT_FALSE(k->occluded(s.view(), ray));
@@ -54,7 +54,7 @@ TEST(Degenerate, InvalidSpheresAreNeverHit) {
 }
 
 TEST(Degenerate, InvalidSpheresDoNotHideValidOnes) {
-  for (const Kernel* k : test::runnable_kernels()) {
+  for (const EntryTable* k : test::runnable_kernels()) {
     test::LooseSpheres s;
     for (int i = 0; i < 30; ++i)
       s.add({0, 0, i % 2 ? kNaN : kInf}, i % 3 ? -1.0f : kNaN);
@@ -104,7 +104,7 @@ TEST(Degenerate, InvalidRaysMissEverything) {
 TEST(Degenerate, InfiniteTmaxAndNegativeTminAreValid) {
   // tmin = -inf, tmax = +inf: the near root, here behind the origin at t = -11 + 20 = ... from
   // (0,0,10) along -z the roots are 9 and 11; with tmin = -inf the near root 9 is taken.
-  for (const Kernel* k : test::runnable_kernels()) {
+  for (const EntryTable* k : test::runnable_kernels()) {
     for (std::size_t n : {1u, 40u}) {
       const auto s = copies({0, 0, 0}, 1.0f, n);
       const Hit hit = k->intersect(s.view(), Ray{{0, 0, 10}, {0, 0, -1}, -kInf, kInf});
@@ -119,7 +119,7 @@ TEST(Degenerate, InfiniteTmaxAndNegativeTminAreValid) {
 
 TEST(Degenerate, EmptyAndNullViews) {
   const SphereView empty{nullptr, nullptr, nullptr, nullptr, 0};
-  for (const Kernel* k : test::runnable_kernels()) {
+  for (const EntryTable* k : test::runnable_kernels()) {
     EXPECT_FALSE(k->intersect(empty, kTowardsOrigin).found());
     EXPECT_FALSE(k->occluded(empty, kTowardsOrigin));
   }

@@ -107,7 +107,7 @@ TEST(Grazing, TangentFromTheSurfaceMisses) {
         spheres.add({0, 0, 0}, 0.0f);
       const Ray ray{{0, -0.1f, 0}, {1, tilt, 0}};
       ASSERT_FALSE(reference({0, 0, 0}, 0.1f, ray).hit);
-      for (const Kernel* k : test::runnable_kernels()) {
+      for (const EntryTable* k : test::runnable_kernels()) {
         const Hit hit = k->intersect(spheres.view(), ray);
         EXPECT_FALSE(hit.found()) << test::name_of(k) << " tilt " << tilt << " view of " << count
                                   << ": id " << hit.id << " t " << hit.t;
@@ -139,7 +139,7 @@ TEST(Grazing, RaysFromSurfacePointsStayOnTheirSphere) {
         crowd.add(center + (radius * test::uniform(rng, 1.0f, 20.0f)) * test::unit_vector(rng),
                   radius * test::uniform(rng, 0.2f, 1.0f));
       std::vector<SphereBVH> trees;
-      for (const Kernel* k : kernels)
+      for (const EntryTable* k : kernels)
         trees.emplace_back(crowd.view(), k->isa);
       for (const float tilt : {0.0f, 1e-7f, 1e-5f, 1e-3f}) {
         for (const Start start :

@@ -64,7 +64,7 @@ TEST(Hardening, BoxesBehindTheOriginAreNotSkipped) {
   const float c = -0x1.999cp+6f;  // -102.40234375
   const Ray ray{{c, c, c}, {c, c, c}, c};
   for (Isa isa : supported_isas()) {
-    const Kernel& k = *find_kernel(isa);
+    const EntryTable& k = *find_entries(isa);
     const SphereBVH bvh(spheres.view(), isa);
     const Hit brute = k.intersect(spheres.view(), ray), tree = intersect(bvh, ray);
     EXPECT_TRUE(brute.found()) << isa_name(isa);
@@ -81,7 +81,7 @@ TEST(Hardening, SurfaceNormalOfATinySphereIsUnitLength) {
   spheres.add({0x1.b848p-6f, 0x1.26a6ap-130f, 0x1.35p-73f}, 0x1.35p-73f);
   const Ray ray{{0, 0, 0}, {0x1.368p+3f, 0, 0}};
   for (Isa isa : supported_isas()) {
-    const Hit hit = find_kernel(isa)->intersect(spheres.view(), ray);
+    const Hit hit = find_entries(isa)->intersect(spheres.view(), ray);
     ASSERT_TRUE(hit.found()) << isa_name(isa);
     const Surface s = surface(spheres.view(), ray, hit);
     EXPECT_NEAR(length(s.normal), 1.0f, 1e-6f) << isa_name(isa);

@@ -22,7 +22,7 @@ TEST(Isa, SupportedListIsBestFirstAndEndsWithScalar) {
   for (std::size_t i = 1; i < isas.size(); ++i)
     EXPECT_GT(isa_width(isas[i - 1]), isa_width(isas[i]) - 1) << "not best first";
   for (Isa isa : isas) {
-    const Kernel* k = find_kernel(isa);
+    const EntryTable* k = find_entries(isa);
     ASSERT_NE(k, nullptr);
     EXPECT_EQ(k->isa, isa);
     EXPECT_EQ(k->width, isa_width(isa));
@@ -53,7 +53,7 @@ TEST(Isa, UnknownNameFallsBackWithAMessage) {
 TEST(Isa, UnrunnableChoiceFallsBackWithAMessage) {
   // Some instruction set of the list is always missing: NEON on x86, the x86 ones on ARM.
   for (Isa isa : {Isa::sse4_2, Isa::avx2, Isa::avx512, Isa::neon}) {
-    if (find_kernel(isa) != nullptr) continue;
+    if (find_entries(isa) != nullptr) continue;
     const IsaChoice c = choose_isa(std::string(isa_name(isa)).c_str());
     EXPECT_EQ(c.isa, supported_isas().front());
     EXPECT_NE(c.message.find("cannot run here"), std::string::npos) << c.message;
@@ -65,7 +65,7 @@ TEST(Isa, UnrunnableChoiceFallsBackWithAMessage) {
 TEST(Isa, ActiveIsaIsRunnable) {
   const auto isas = supported_isas();
   EXPECT_NE(std::find(isas.begin(), isas.end(), active_isa()), isas.end());
-  EXPECT_EQ(active_kernel().isa, active_isa());
+  EXPECT_EQ(active_entries().isa, active_isa());
 }
 
 }  // namespace
@@ -75,10 +75,10 @@ namespace sphray {
 namespace {
 
 TEST(Isa, SmallViewsGoToAKernelTheyFill) {
-  const Kernel& active = active_kernel();
+  const EntryTable& active = active_entries();
   for (std::size_t n = 0; n < 64; ++n) {
-    const Kernel& k = kernel_for_size(n);
-    ASSERT_NE(find_kernel(k.isa), nullptr) << n;
+    const EntryTable& k = entries_for_size(n);
+    ASSERT_NE(find_entries(k.isa), nullptr) << n;
     EXPECT_LE(k.width, active.width) << n;
     // Never a batch less than two thirds full when a narrower kernel exists that n fills.
     if (k.width > 4) {

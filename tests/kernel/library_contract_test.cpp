@@ -40,7 +40,7 @@ void expect_empty_tree(const SphereBVH& bvh, Isa isa) {
 TEST(LibraryContract, MovedFromBvhIsTheEmptyTree) {
   const SphereSoA spheres = three_spheres();
   const Ray ray{{0, 0, 0}, {0, 0, -1}, 0.0f, 100.0f};
-  for (const Kernel* k : test::runnable_kernels()) {
+  for (const EntryTable* k : test::runnable_kernels()) {
     SCOPED_TRACE(isa_name(k->isa));
     SphereBVH source(spheres.view(), k->isa);
     SphereBVH moved(std::move(source));

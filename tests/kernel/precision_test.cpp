@@ -74,7 +74,7 @@ TEST(Precision, HitMissAndDistanceAgainstLongDouble) {
   for (int i = 0; i < case_count; ++i)
     cases.push_back(random_case(rng));
 
-  for (const Kernel* k : test::runnable_kernels()) {
+  for (const EntryTable* k : test::runnable_kernels()) {
     int checked_hits = 0, decided = 0;
     for (const Case& c : cases) {
       // 40 spheres: the tested one in lane 5, the rest never hit, so the SIMD path runs.

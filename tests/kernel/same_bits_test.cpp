@@ -57,14 +57,14 @@ TEST(OneAnswer, EveryKernelTheReferenceTheDispatcherAndTheTreeAgreeBitForBit) {
     const SphereView v = scene.view();
     const std::vector<Ray> rays = mixed_rays(v, test::scaled(n >= 100 ? 4000 : 1000), rng);
     std::vector<SphereBVH> trees;
-    for (const Kernel* k : kernels)
+    for (const EntryTable* k : kernels)
       trees.emplace_back(v, k->isa);
     for (const Ray& ray : rays) {
       const Hit want = scalar::intersect(v, ray);
       const bool want_blocked = scalar::occluded(v, ray);
       ++traced;
       hits += want.found();
-      auto check = [&](const Hit& got, bool blocked, const char* what, const Kernel* k) {
+      auto check = [&](const Hit& got, bool blocked, const char* what, const EntryTable* k) {
         ++compared;
         const bool ok = same_bits(got, want) && blocked == want_blocked;
         mismatches += !ok;

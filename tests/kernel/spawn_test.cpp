@@ -187,7 +187,7 @@ void expect_spawn_exact_and_naive_wrong(const std::string& where, const Tally (&
 class SpawnPerIsa : public ::testing::TestWithParam<Isa> {};
 
 TEST_P(SpawnPerIsa, OutwardNeverSelfHitsInwardFindsTheFarSide) {
-  const Kernel* k = find_kernel(GetParam());
+  const EntryTable* k = find_entries(GetParam());
   ASSERT_NE(k, nullptr);
   std::mt19937 rng(1200 + static_cast<unsigned>(GetParam()));
   const std::size_t cases = test::scaled(1000000);

@@ -62,7 +62,7 @@ TEST(SphereSoA, ClearLeavesNothingToHit) {
   const SphereView v = s.view();
   for (std::size_t i = 1; i < v.padded_count; ++i)
     EXPECT_EQ(v.radius[i], 0.0f);
-  for (const Kernel* k : test::runnable_kernels())
+  for (const EntryTable* k : test::runnable_kernels())
     EXPECT_FALSE(k->intersect(v, Ray{{0, 0, 1}, {0, 0, -1}}).found()) << test::name_of(k);
 }
 

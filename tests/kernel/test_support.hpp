@@ -21,10 +21,10 @@
 #include "dispatch/entry_table.hpp"
 
 namespace sphray {
-using detail::active_kernel;
-using detail::find_kernel;
-using detail::Kernel;
-using detail::kernel_for_size;
+using detail::active_entries;
+using detail::entries_for_size;
+using detail::EntryTable;
+using detail::find_entries;
 }  // namespace sphray
 
 namespace sphray {
@@ -119,14 +119,14 @@ inline std::vector<Ray> random_rays(std::size_t n, std::mt19937& rng) {
 }
 
 // Every kernel this machine runs, by instruction set (scalar included).
-inline std::vector<const Kernel*> runnable_kernels() {
-  std::vector<const Kernel*> kernels;
+inline std::vector<const EntryTable*> runnable_kernels() {
+  std::vector<const EntryTable*> kernels;
   for (Isa isa : supported_isas())
-    kernels.push_back(find_kernel(isa));
+    kernels.push_back(find_entries(isa));
   return kernels;
 }
 
-inline std::string name_of(const Kernel* k) {
+inline std::string name_of(const EntryTable* k) {
   return std::string(isa_name(k->isa));
 }
 

@@ -26,7 +26,7 @@ test::LooseSpheres hidden_among(Vec3 center, float r, std::size_t slot, std::siz
 // Runs check(kernel, view, id_of_the_sphere) for every kernel and placement.
 template <class Check>
 void for_every_placement(Vec3 center, float r, Check check) {
-  for (const Kernel* k : runnable_kernels()) {
+  for (const EntryTable* k : runnable_kernels()) {
     for (std::size_t total : {1u, 20u, 37u}) {
       for (std::size_t slot = 0; slot < total; slot += (total > 1 ? 3 : 1)) {
         const auto s = hidden_among(center, r, slot, total);
@@ -44,7 +44,7 @@ constexpr float kRadius = 0.5f;
 
 TEST(WorkedCases, CentreRayHitsAtHalf) {
   // |(0,0,-t) - (0,0,-1)| = 0.5 gives t = 0.5 and t = 1.5; the near root is taken.
-  for_every_placement(kCenter, kRadius, [](const Kernel& k, SphereView v, std::uint32_t id) {
+  for_every_placement(kCenter, kRadius, [](const EntryTable& k, SphereView v, std::uint32_t id) {
     const Ray ray{{0, 0, 0}, {0, 0, -1}};
     const Hit hit = k.intersect(v, ray);
     EXPECT_EQ(hit.id, id);
@@ -61,7 +61,7 @@ TEST(WorkedCases, CentreRayHitsAtHalf) {
 TEST(WorkedCases, CornerRaysOfTheBookCameraMiss) {
   // Viewport 2 high, 16:9, focal length 1: the corners are (+-16/9, +-1, -1). Closest approach of
   // such a ray to the centre: sqrt(1 - 1/(1 + 1 + 256/81)) = 0.898 > 0.5.
-  for_every_placement(kCenter, kRadius, [](const Kernel& k, SphereView v, std::uint32_t) {
+  for_every_placement(kCenter, kRadius, [](const EntryTable& k, SphereView v, std::uint32_t) {
     for (float sx : {-1.0f, 1.0f})
       for (float sy : {-1.0f, 1.0f}) {
         const Ray ray{{0, 0, 0}, {sx * 16.0f / 9.0f, sy, -1.0f}};
@@ -75,7 +75,7 @@ TEST(WorkedCases, CornerRaysOfTheBookCameraMiss) {
 
 TEST(WorkedCases, SphereBehindTheCameraIsNotHit) {
   // Moved to z = +1, both roots are negative (t = -0.5 and -1.5 along (0,0,-1)).
-  for_every_placement({0, 0, 1}, kRadius, [](const Kernel& k, SphereView v, std::uint32_t) {
+  for_every_placement({0, 0, 1}, kRadius, [](const EntryTable& k, SphereView v, std::uint32_t) {
     const Ray ray{{0, 0, 0}, {0, 0, -1}};
     EXPECT_FALSE(k.intersect(v, ray).found());
     EXPECT_FALSE(k.occluded(v, ray));
@@ -85,7 +85,7 @@ TEST(WorkedCases, SphereBehindTheCameraIsNotHit) {
 TEST(WorkedCases, TangentRays) {
   // A ray at x = 0.5 exactly touches the sphere at (0.5, 0, -1): the discriminant is exactly 0
   // and the double root t = 1 counts as a hit. Slightly outside misses; slightly inside hits.
-  for_every_placement(kCenter, kRadius, [](const Kernel& k, SphereView v, std::uint32_t id) {
+  for_every_placement(kCenter, kRadius, [](const EntryTable& k, SphereView v, std::uint32_t id) {
     const Hit touch = k.intersect(v, Ray{{0.5f, 0, 0}, {0, 0, -1}});
     EXPECT_EQ(touch.id, id);
     EXPECT_FLOAT_EQ(touch.t, 1.0f);
@@ -99,7 +99,7 @@ TEST(WorkedCases, TangentRays) {
 
 TEST(WorkedCases, RayFromInsideHitsTheFarSide) {
   // From the centre along -z the roots are -0.5 and +0.5: the far one, seen from inside.
-  for_every_placement(kCenter, kRadius, [](const Kernel& k, SphereView v, std::uint32_t id) {
+  for_every_placement(kCenter, kRadius, [](const EntryTable& k, SphereView v, std::uint32_t id) {
     const Ray ray{kCenter, {0, 0, -1}};
     const Hit hit = k.intersect(v, ray);
     EXPECT_EQ(hit.id, id);
@@ -112,7 +112,7 @@ TEST(WorkedCases, RayFromInsideHitsTheFarSide) {
 
 TEST(WorkedCases, DirectionLengthScalesT) {
   // dir = (0,0,-4): the same points, at t = 0.5 / 4.
-  for_every_placement(kCenter, kRadius, [](const Kernel& k, SphereView v, std::uint32_t id) {
+  for_every_placement(kCenter, kRadius, [](const EntryTable& k, SphereView v, std::uint32_t id) {
     const Hit hit = k.intersect(v, Ray{{0, 0, 0}, {0, 0, -4}});
     EXPECT_EQ(hit.id, id);
     EXPECT_FLOAT_EQ(hit.t, 0.125f);
@@ -132,7 +132,7 @@ TEST(WorkedCases, IntervalIsOpenAtBothRoots) {
       {1.5f, 10.0f, false, 0.0f},   {0.0f, 0.5f, false, 0.0f},    {0.0f, 0.5001f, true, 0.5f},
       {0.6f, 1.5f, false, 0.0f},    {0.6f, 1.5001f, true, 1.5f},  {-10.0f, 0.4f, false, 0.0f},
   };
-  for_every_placement(kCenter, kRadius, [&](const Kernel& k, SphereView v, std::uint32_t id) {
+  for_every_placement(kCenter, kRadius, [&](const EntryTable& k, SphereView v, std::uint32_t id) {
     for (const Case& c : cases) {
       SCOPED_TRACE("tmin " + std::to_string(c.tmin) + " tmax " + std::to_string(c.tmax));
       const Ray ray{{0, 0, 0}, {0, 0, -1}, c.tmin, c.tmax};
@@ -152,7 +152,7 @@ TEST(WorkedCases, IntervalIsOpenAtBothRoots) {
 TEST(WorkedCases, ClosestOfSeveralAndLowerIdOnTies) {
   // Spheres along -z at z = -3, -2 (twice, ids 1 and 2... placed at every distance apart), -5:
   // the ray from the origin hits z = -2 + 0.5 first; the two identical spheres tie.
-  for (const Kernel* k : runnable_kernels()) {
+  for (const EntryTable* k : runnable_kernels()) {
     for (std::size_t gap : {1u, 3u, 4u, 8u, 16u, 17u}) {
       test::LooseSpheres s;
       s.add({0, 0, -3}, 0.5f);

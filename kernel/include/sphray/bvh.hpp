@@ -27,8 +27,8 @@
 namespace sphray {
 
 namespace detail {
-struct BvhAccess;  // the library's view of a tree's arrays (src/bvh/bvh_data.hpp)
-struct Kernel;     // an instruction set's entry points (src/dispatch/entry_table.hpp)
+struct BvhAccess;   // the library's view of a tree's arrays (src/bvh/bvh_data.hpp)
+struct EntryTable;  // an instruction set's entry points (src/dispatch/entry_table.hpp)
 }  // namespace detail
 
 /// How to build a SphereBVH.
@@ -52,7 +52,7 @@ class SphereBVH {
   /// met before 2^31 spheres. Below 2^31 / W spheres (2^27 with AVX-512, 2^28 with AVX2) a
   /// build never meets it; above, it depends on how full the leaves come out.
   explicit SphereBVH(SphereView spheres, BvhBuildOptions options = {});
-  /// Builds over spheres for isa. Throws std::invalid_argument if find_kernel(isa) is null or
+  /// Builds over spheres for isa. Throws std::invalid_argument if find_entries(isa) is null or
   /// isa is not one of the Isa enumerators.
   SphereBVH(SphereView spheres, Isa isa, BvhBuildOptions options = {});
 
@@ -80,7 +80,7 @@ class SphereBVH {
   friend struct detail::BvhAccess;
   struct Storage;
   std::unique_ptr<Storage> storage_;  // null once moved from: the empty tree
-  const detail::Kernel* kernel_;
+  const detail::EntryTable* entries_;
 };
 
 /// Closest hit of ray among the tree's spheres: the same result as intersect(view, ray) on the

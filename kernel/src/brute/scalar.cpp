@@ -87,13 +87,13 @@ void scalar_stream(SphereView spheres, const Ray* rays, Hit* hits, std::size_t n
 }
 }  // namespace
 
-constinit const Kernel kScalarKernel = {Isa::scalar,
-                                        1,
-                                        &scalar::intersect,
-                                        &scalar::occluded,
-                                        &scalar_stream,
-                                        kScalarBvhWidth,
-                                        &scalar_bvh_intersect,
-                                        &scalar_bvh_occluded,
-                                        &scalar_bvh_intersect_stream};
+constinit const EntryTable kScalarEntries = {Isa::scalar,
+                                             1,
+                                             &scalar::intersect,
+                                             &scalar::occluded,
+                                             &scalar_stream,
+                                             kScalarBvhWidth,
+                                             &scalar_bvh_intersect,
+                                             &scalar_bvh_occluded,
+                                             &scalar_bvh_intersect_stream};
 }  // namespace sphray::detail

@@ -14,10 +14,10 @@ struct SphereBVH::Storage {
   detail::BvhArrays arrays;
   detail::BvhData data;  // views of arrays
 
-  static std::unique_ptr<Storage> build(SphereView spheres, const detail::Kernel& kernel,
+  static std::unique_ptr<Storage> build(SphereView spheres, const detail::EntryTable& entries,
                                         const BvhBuildOptions& options) {
     auto storage = std::make_unique<Storage>();
-    storage->arrays = detail::build_bvh(spheres, kernel.bvh_width, options);
+    storage->arrays = detail::build_bvh(spheres, entries.bvh_width, options);
     storage->data = storage->arrays.data();
     return storage;
   }
@@ -25,18 +25,18 @@ struct SphereBVH::Storage {
 
 namespace {
 
-using detail::Kernel;
+using detail::EntryTable;
 
 // The number of Isa enumerators: a value cast from anything else names no instruction set.
 constexpr std::size_t kIsaCount = 5;
 
-const Kernel& kernel_for(Isa isa) {
+const EntryTable& entries_for(Isa isa) {
   const auto index = static_cast<std::size_t>(isa);
   if (index >= kIsaCount) {
     throw std::invalid_argument("sphray::SphereBVH: " + std::to_string(index) +
                                 " is not an instruction set");
   }
-  const Kernel* k = detail::find_kernel(isa);
+  const EntryTable* k = detail::find_entries(isa);
   if (k == nullptr)
     throw std::invalid_argument("sphray::SphereBVH: instruction set " + std::string(isa_name(isa)) +
                                 " cannot run here");
@@ -51,8 +51,8 @@ SphereBVH::SphereBVH(SphereView spheres, BvhBuildOptions options)
     : SphereBVH(spheres, active_isa(), options) {}
 
 SphereBVH::SphereBVH(SphereView spheres, Isa isa, BvhBuildOptions options)
-    : kernel_(&kernel_for(isa)) {
-  storage_ = Storage::build(spheres, *kernel_, options);
+    : entries_(&entries_for(isa)) {
+  storage_ = Storage::build(spheres, *entries_, options);
 }
 
 // A moved-from tree keeps its kernel and loses its storage: it reads as the empty tree.
@@ -62,7 +62,7 @@ SphereBVH::~SphereBVH() = default;
 
 void SphereBVH::refit(SphereView spheres) {
   if (!storage_)
-    storage_ = Storage::build({nullptr, nullptr, nullptr, nullptr, 0, 0}, *kernel_, {});
+    storage_ = Storage::build({nullptr, nullptr, nullptr, nullptr, 0, 0}, *entries_, {});
   detail::refit_bvh(storage_->arrays, spheres);
   storage_->data = storage_->arrays.data();  // the leaf overlap changed
 }
@@ -72,7 +72,7 @@ std::size_t SphereBVH::size() const {
 }
 
 Isa SphereBVH::isa() const {
-  return kernel_->isa;
+  return entries_->isa;
 }
 
 std::size_t SphereBVH::memory_bytes() const {
@@ -87,25 +87,25 @@ const detail::BvhData& detail::BvhAccess::data(const SphereBVH& bvh) {
   return bvh.storage_ ? bvh.storage_->data : kEmptyTree;
 }
 
-const Kernel& detail::BvhAccess::kernel(const SphereBVH& bvh) {
-  return *bvh.kernel_;
+const EntryTable& detail::BvhAccess::entries(const SphereBVH& bvh) {
+  return *bvh.entries_;
 }
 
 Hit intersect(const SphereBVH& bvh, const Ray& ray) {
   using A = detail::BvhAccess;
-  return A::kernel(bvh).bvh_intersect(A::data(bvh), ray);
+  return A::entries(bvh).bvh_intersect(A::data(bvh), ray);
 }
 
 bool occluded(const SphereBVH& bvh, const Ray& ray) {
   using A = detail::BvhAccess;
-  return A::kernel(bvh).bvh_occluded(A::data(bvh), ray);
+  return A::entries(bvh).bvh_occluded(A::data(bvh), ray);
 }
 
 void intersect(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> hits) {
   if (rays.size() != hits.size())
     throw std::length_error("sphray::intersect: rays and hits differ in size");
   using A = detail::BvhAccess;
-  A::kernel(bvh).bvh_intersect_stream(A::data(bvh), rays.data(), hits.data(), rays.size());
+  A::entries(bvh).bvh_intersect_stream(A::data(bvh), rays.data(), hits.data(), rays.size());
 }
 
 }  // namespace sphray

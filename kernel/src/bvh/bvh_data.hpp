@@ -46,13 +46,13 @@ inline constexpr std::uint32_t kBvhLeafFirstMask = kBvhLeafBit - 1;
 /// bounds the traversal stack to kBvhMaxDepth * (width - 1) + 1 entries.
 inline constexpr std::size_t kBvhMaxDepth = 64;
 
-struct Kernel;
+struct EntryTable;
 
 /// What the library (and its tests) see of a SphereBVH: its arrays and its kernel. A moved-from
 /// tree reads as the empty tree, which every query misses.
 struct BvhAccess {
   static const BvhData& data(const SphereBVH& bvh);
-  static const Kernel& kernel(const SphereBVH& bvh);
+  static const EntryTable& entries(const SphereBVH& bvh);
 };
 
 }  // namespace sphray::detail

@@ -14,26 +14,26 @@
 namespace sphray {
 namespace {
 
-using detail::find_kernel;
-using detail::Kernel;
+using detail::EntryTable;
+using detail::find_entries;
 
 constexpr std::array<std::string_view, 5> kNames = {"scalar", "sse4.2", "avx2", "avx512", "neon"};
 
 // Every kernel this build has, best first.
 constexpr std::array kBuilt = {
 #if SPHRAY_HAS_AVX512
-    &detail::kAvx512Kernel,
+    &detail::kAvx512Entries,
 #endif
 #if SPHRAY_HAS_AVX2
-    &detail::kAvx2Kernel,
+    &detail::kAvx2Entries,
 #endif
 #if SPHRAY_HAS_SSE4_2
-    &detail::kSse42Kernel,
+    &detail::kSse42Entries,
 #endif
 #if SPHRAY_HAS_NEON
-    &detail::kNeonKernel,
+    &detail::kNeonEntries,
 #endif
-    &detail::kScalarKernel,
+    &detail::kScalarEntries,
 };
 
 bool cpu_runs(Isa isa, const detail::CpuFeatures& cpu) {
@@ -56,12 +56,12 @@ bool cpu_runs(Isa isa, const detail::CpuFeatures& cpu) {
 // need no lock (and C++ makes the initialisation itself thread-safe).
 struct Supported {
   std::array<Isa, kBuilt.size()> isas{};
-  std::array<const Kernel*, kBuilt.size()> kernels{};
+  std::array<const EntryTable*, kBuilt.size()> kernels{};
   std::size_t count = 0;
 
   Supported() {
     const detail::CpuFeatures cpu = detail::detect_cpu();
-    for (const Kernel* k : kBuilt) {
+    for (const EntryTable* k : kBuilt) {
       if (!cpu_runs(k->isa, cpu)) continue;
       isas[count] = k->isa;
       kernels[count++] = k;
@@ -77,13 +77,13 @@ const Supported& supported() {
 // The active kernel, and for views too small to fill its batches, a narrower one.
 struct Choice {
   static constexpr std::size_t kSmall = 32;  // views below this many spheres may go narrower
-  const Kernel* active = nullptr;
-  std::array<const Kernel*, kSmall> by_count{};
+  const EntryTable* active = nullptr;
+  std::array<const EntryTable*, kSmall> by_count{};
 
   Choice() {
     const IsaChoice choice = choose_isa(std::getenv("SPHRAY_ISA"));
     if (!choice.message.empty()) std::fprintf(stderr, "%s\n", choice.message.c_str());
-    active = find_kernel(choice.isa);
+    active = find_entries(choice.isa);
     for (std::size_t n = 0; n < kSmall; ++n)
       by_count[n] = narrowest_fit(n);
   }
@@ -92,11 +92,11 @@ struct Choice {
   // once the view fills about two thirds of one batch, and a single sphere is fastest in the
   // scalar loop (docs/performance.md). The widest kernel no wider than the active one whose
   // width is at most max(4, 1.5 n), or the scalar one below kScalarBelow spheres.
-  const Kernel* narrowest_fit(std::size_t n) const {
+  const EntryTable* narrowest_fit(std::size_t n) const {
     const std::size_t widest = detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(n)
                                    ? 1
                                    : std::max<std::size_t>(4, 3 * n / 2);
-    for (const Kernel* k : supported().kernels)
+    for (const EntryTable* k : supported().kernels)
       if (k != nullptr && k->width <= active->width && k->width <= widest) return k;
     return active;
   }
@@ -136,7 +136,7 @@ std::size_t isa_width(Isa isa) {
 
 namespace detail {
 
-const Kernel* find_kernel(Isa isa) {
+const EntryTable* find_entries(Isa isa) {
   const Supported& s = supported();
   for (std::size_t i = 0; i < s.count; ++i)
     if (s.isas[i] == isa) return s.kernels[i];
@@ -159,7 +159,7 @@ IsaChoice choose_isa(const char* requested) {
     return {best, "sphray: SPHRAY_ISA=" + std::string(requested) +
                       " is not one of scalar, sse4.2, avx2, avx512, neon; using " + best_name};
   }
-  if (find_kernel(*isa) == nullptr) {
+  if (find_entries(*isa) == nullptr) {
     return {best, "sphray: SPHRAY_ISA=" + std::string(requested) +
                       " cannot run here (not built for this CPU family, or the CPU or OS lacks "
                       "it); using " +
@@ -173,11 +173,11 @@ Isa active_isa() {
 }
 namespace detail {
 
-const Kernel& active_kernel() {
+const EntryTable& active_entries() {
   return *choice().active;
 }
 
-const Kernel& kernel_for_size(std::size_t sphere_count) {
+const EntryTable& entries_for_size(std::size_t sphere_count) {
   const Choice& c = choice();
   return sphere_count < Choice::kSmall ? *c.by_count[sphere_count] : *c.active;
 }

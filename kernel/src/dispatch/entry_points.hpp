@@ -1,5 +1,5 @@
 // The entry points of one instruction set, built from BruteForce<A> and the tree's walk over A.
-// A per-ISA unit includes this and defines its table with make_kernel<A>(isa).
+// A per-ISA unit includes this and defines its table with make_entry_table<A>(isa).
 #pragma once
 
 #include <cstddef>
@@ -52,7 +52,7 @@ struct EntryPoints {
 };
 
 template <class A>
-constexpr Kernel make_kernel(Isa isa) {
+constexpr EntryTable make_entry_table(Isa isa) {
   using E = EntryPoints<A>;
   return {isa,
           E::Brute::kWidth,

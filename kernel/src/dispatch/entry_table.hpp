@@ -15,7 +15,7 @@ struct BvhData;  // bvh/bvh_data.hpp
 
 /// The entry points of one instruction set. Same contract as query.hpp. Internal: tests and
 /// benchmarks reach a given instruction set through it (the sphray_kernel_internals target).
-struct Kernel {
+struct EntryTable {
   Isa isa;
   std::size_t width;
   Hit (*intersect)(SphereView spheres, const Ray& ray);
@@ -31,28 +31,28 @@ struct Kernel {
 };
 
 /// The kernel for isa, or nullptr if this build lacks it or this machine cannot run it.
-const Kernel* find_kernel(Isa isa);
+const EntryTable* find_entries(Isa isa);
 /// The kernel of active_isa().
-const Kernel& active_kernel();
+const EntryTable& active_entries();
 /// The kernel the brute-force queries in query.hpp use for a view of sphere_count spheres:
-/// active_kernel(), except that a view too small to fill two thirds of its batch goes to the
+/// active_entries(), except that a view too small to fill two thirds of its batch goes to the
 /// widest narrower instruction set it does fill (a batch costs its full width whatever it
 /// holds), and a view of fewer than two spheres to the scalar kernel. All of them return the same
 /// hits, bit for bit.
-const Kernel& kernel_for_size(std::size_t sphere_count);
+const EntryTable& entries_for_size(std::size_t sphere_count);
 
-extern const Kernel kScalarKernel;
+extern const EntryTable kScalarEntries;
 #if SPHRAY_HAS_SSE4_2
-extern const Kernel kSse42Kernel;
+extern const EntryTable kSse42Entries;
 #endif
 #if SPHRAY_HAS_AVX2
-extern const Kernel kAvx2Kernel;
+extern const EntryTable kAvx2Entries;
 #endif
 #if SPHRAY_HAS_AVX512
-extern const Kernel kAvx512Kernel;
+extern const EntryTable kAvx512Entries;
 #endif
 #if SPHRAY_HAS_NEON
-extern const Kernel kNeonKernel;
+extern const EntryTable kNeonEntries;
 #endif
 
 }  // namespace sphray::detail

@@ -2,6 +2,6 @@
 #include "dispatch/entry_points.hpp"
 
 namespace sphray::detail {
-constinit const Kernel kAvx2Kernel =
-    SPHRAY_ISA_NAMESPACE::make_kernel<xsimd::fma3<xsimd::avx2>>(Isa::avx2);
+constinit const EntryTable kAvx2Entries =
+    SPHRAY_ISA_NAMESPACE::make_entry_table<xsimd::fma3<xsimd::avx2>>(Isa::avx2);
 }

@@ -12,6 +12,6 @@
 #include "dispatch/entry_points.hpp"
 
 namespace sphray::detail {
-constinit const Kernel kAvx512Kernel =
-    SPHRAY_ISA_NAMESPACE::make_kernel<xsimd::avx512f>(Isa::avx512);
+constinit const EntryTable kAvx512Entries =
+    SPHRAY_ISA_NAMESPACE::make_entry_table<xsimd::avx512f>(Isa::avx512);
 }

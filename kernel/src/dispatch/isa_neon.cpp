@@ -2,5 +2,6 @@
 #include "dispatch/entry_points.hpp"
 
 namespace sphray::detail {
-constinit const Kernel kNeonKernel = SPHRAY_ISA_NAMESPACE::make_kernel<xsimd::neon64>(Isa::neon);
+constinit const EntryTable kNeonEntries =
+    SPHRAY_ISA_NAMESPACE::make_entry_table<xsimd::neon64>(Isa::neon);
 }

@@ -2,5 +2,6 @@
 #include "dispatch/entry_points.hpp"
 
 namespace sphray::detail {
-constinit const Kernel kSse42Kernel = SPHRAY_ISA_NAMESPACE::make_kernel<xsimd::sse4_2>(Isa::sse4_2);
+constinit const EntryTable kSse42Entries =
+    SPHRAY_ISA_NAMESPACE::make_entry_table<xsimd::sse4_2>(Isa::sse4_2);
 }

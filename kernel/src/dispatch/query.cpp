@@ -40,25 +40,25 @@ float away(float x, float sign) {
 
 }  // namespace
 
-// Views below kScalarBelow spheres go straight to the scalar loop, as kernel_for_size() would
+// Views below kScalarBelow spheres go straight to the scalar loop, as entries_for_size() would
 // send them: a ray against one sphere takes a few nanoseconds, and looking the kernel up measured
 // a fifth of that.
 Hit intersect(SphereView spheres, const Ray& ray) {
   if (detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(spheres.count))
     return scalar::intersect(spheres, ray);
-  return detail::kernel_for_size(spheres.count).intersect(spheres, ray);
+  return detail::entries_for_size(spheres.count).intersect(spheres, ray);
 }
 
 bool occluded(SphereView spheres, const Ray& ray) {
   if (detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(spheres.count))
     return scalar::occluded(spheres, ray);
-  return detail::kernel_for_size(spheres.count).occluded(spheres, ray);
+  return detail::entries_for_size(spheres.count).occluded(spheres, ray);
 }
 
 void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hits) {
   if (rays.size() != hits.size())
     throw std::length_error("sphray::intersect: rays and hits differ in size");
-  detail::kernel_for_size(spheres.count)
+  detail::entries_for_size(spheres.count)
       .intersect_stream(spheres, rays.data(), hits.data(), rays.size());
 }
 

@@ -22,7 +22,7 @@ namespace sphray::detail {
 // 1. Views, and trees, of fewer spheres go to the scalar loop on every path: a single sphere is
 // tested faster by it than by a batch that is mostly padding; from two spheres on a 4-lane batch
 // wins. Larger views too small to fill two thirds of the active batch go to a narrower
-// instruction set (kernel_for_size, dispatch.cpp).
+// instruction set (entries_for_size, dispatch.cpp).
 inline constexpr std::size_t kScalarBelow = 2;
 
 }  // namespace sphray::detail

@@ -63,17 +63,23 @@ class SceneError : public std::runtime_error {
 inline constexpr std::size_t kMaxRandomSpheres = std::size_t{1} << 24;
 inline constexpr int kMaxImageSide = 16384;
 
+/// The deepest nesting of arrays and objects a scene file may have (the format uses four).
+inline constexpr std::size_t kMaxSceneNesting = 64;
+
 /// "single", "three", "rtiow-final", "random:N".
 std::vector<std::string> preset_names();
 /// One line describing each preset, in the order of preset_names().
 std::vector<std::string> preset_descriptions();
 /// The preset called name. Throws SceneError for an unknown name or a bad N.
 Scene make_preset(std::string_view name);
-/// A scene read from a JSON file (format in docs/scenes.md). Throws SceneError.
+/// A scene read from a JSON file (format in docs/scenes.md), or from standard input if file is
+/// "-" (name a file called "-" as "./-"). A file may hold at most 64 MiB; a FIFO that gives no
+/// byte within 5 s is refused. Throws SceneError.
 Scene load_scene(const std::filesystem::path& file);
 /// A scene parsed from JSON text; source names it in messages. Throws SceneError.
 Scene parse_scene(std::string_view json_text, const std::string& source);
-/// A preset if name_or_file names one (or starts with "random:"), else a JSON file.
+/// A preset if name_or_file names one (or starts with "random:"), else a JSON file ("-":
+/// standard input).
 Scene load_scene_or_preset(std::string_view name_or_file);
 
 /// The fixed, portable random numbers every preset draws from.
