@@ -172,7 +172,7 @@ void register_benchmarks(const std::vector<Implementation>& implementations,
           ->UseManualTime()
           ->Unit(benchmark::kMillisecond);
     }
-    for (RayKind kind : {RayKind::coherent, RayKind::incoherent}) {
+    for (RayKind kind : ray_kinds(scene)) {
       for (const Implementation& impl : implementations) {
         const std::string name = "rays/" + std::string(scene) + "/" +
                                  std::string(ray_kind_name(kind)) + "/" + impl.name +

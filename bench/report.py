@@ -22,6 +22,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 KINDS = ("coherent", "incoherent")
+# Issue 12: the rays a path-traced frame traces after the camera's, on these scenes.
+BOUNCE_KIND = "bounce"
+BOUNCE_SCENES = ("rtiow-final", "random:65536")
+BOUNCE_OVER_INTERSECT1 = 1.2
+BOUNCE_OVER_INTERSECT8 = 1.0
 KIND_TITLES = {
     "coherent": "Coherent rays (a 512 x 512 pinhole camera framing the scene)",
     "incoherent": "Incoherent rays (random origins in the scene box, uniform directions)",
@@ -591,6 +596,62 @@ def bvh_section(res):
     return "\n".join(out)
 
 
+def bounce_impls(res):
+    """(label, impl, threads) of the bounce table: brute force's stream, the tree, Embree."""
+    n = res.all_threads
+    cols = [("brute force stream", "dispatch-stream", 1), ("tree per ray", "bvh", 1),
+            ("tree stream", "bvh-stream", 1), ("Embree rtcIntersect1", "embree-intersect1", 1),
+            ("Embree rtcIntersect8", "embree-intersect8", 1)]
+    if n > 1:
+        cols += [(f"brute force stream, {n} threads", "dispatch-stream", n),
+                 (f"tree stream, {n} threads", "bvh-stream", n),
+                 (f"Embree rtcIntersect1, {n} threads", "embree-intersect1", n),
+                 (f"Embree rtcIntersect8, {n} threads", "embree-intersect8", n)]
+    return cols
+
+
+def best_sphray(res, scene, threads=1):
+    """sphray's fastest way on a scene's bounce rays: brute force where it wins, else the tree."""
+    rates = [(res.rate(scene, BOUNCE_KIND, impl, threads), impl)
+             for impl in ("dispatch-stream", "bvh", "bvh-stream")]
+    rates = [r for r in rates if r[0] is not None]
+    return max(rates) if rates else (None, None)
+
+
+def bounce_section(res):
+    scenes = [s for s in BOUNCE_SCENES if any(k[0] == s and k[1] == BOUNCE_KIND for k in res.rays)]
+    if not scenes:
+        return ""
+    out = ["## Bounce rays", "",
+           "Issue 12's workload: the rays `sphray render -m path` traces after the camera's, recorded",
+           "from a 512 x 512 frame at 1 sample (bounces 1 to 3, that is depth 2 to 4 with the camera ray",
+           "as 1), each starting on a sphere at `sphray::spawn()`, in the order the renderer traces them",
+           "(per 16 x 16 tile, one wavefront per bounce). Every implementation traces exactly these rays",
+           "(brute force an evenly spread subset on large scenes) and is checked against the scalar",
+           "reference first. Rays per second:", ""]
+    cols = [c for c in bounce_impls(res) if any(res.rate(s, BOUNCE_KIND, c[1], c[2]) for s in scenes)]
+    header = ["scene (spheres)", "rays"] + [c[0] for c in cols]
+    rows = []
+    for s in scenes:
+        r = res.row(s, BOUNCE_KIND, "bvh")
+        count = int(r.get("rays")) if r is not None else "–"
+        rows.append([scene_label(res, s), count]
+                    + [fmt_rate(res.rate(s, BOUNCE_KIND, impl, t)) for _, impl, t in cols])
+    out.append(table(header, rows))
+    out += ["", "sphray's fastest way (brute force where it wins, else the tree per ray or as a stream)",
+            "against Embree on one thread, the issue's targets:", ""]
+    rows = []
+    for s in scenes:
+        best, impl = best_sphray(res, s)
+        for theirs, want in (("embree-intersect1", BOUNCE_OVER_INTERSECT1),
+                             ("embree-intersect8", BOUNCE_OVER_INTERSECT8)):
+            x = ratio(best, res.rate(s, BOUNCE_KIND, theirs))
+            rows.append([scene_label(res, s), f"{impl} / {theirs} >= {want:g}x", fmt_ratio(x),
+                         verdict(x is not None and x >= want)])
+    out.append(table(["scene (spheres)", "target", "measured", ""], rows))
+    return "\n".join(out)
+
+
 def failures_section(res):
     failed = [r for r in res.rows if r.error]
     ties = [r for r in res.rays.values() if not r.error and (r.get("id_ties") or 0) > 0]
@@ -683,6 +744,8 @@ drift by 1.5x between runs); ratios taken within one run are the figures to comp
 - Brute force (every sphere for every ray) traces at most 2^26 ray/sphere pairs per pass:
   on large scenes a smaller camera image (coherent) or the first rays of the random set
   (incoherent), never fewer spheres, and at least 256 rays.
+- Bounce rays (`rtiow-final` and `random:65536`): the rays path mode traces after the camera's,
+  recorded from the renderer (section "Bounce rays").
 - Implementations: `scalar` is `sphray::scalar::intersect`; `sse4.2`, `avx2`, `avx512` are
   each instruction set's kernel forced through its internal entry-point table (`detail::find_entries(isa)`), per ray;
   `dispatch` is `sphray::intersect(view, ray)` and `dispatch stream` the span overload, split
@@ -721,6 +784,7 @@ def main(argv):
         "![Speed-up over scalar per instruction set](images/perf-speedup.png)",
         stream_table(res),
         bvh_section(res),
+        bounce_section(res),
         build_table(res),
         cycles_section(res),
         failures_section(res),

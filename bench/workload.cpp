@@ -7,6 +7,7 @@
 #include <random>
 
 #include "sphray/render/camera.hpp"
+#include "sphray/render/path_tracer.hpp"
 #include "sphray/render/scene.hpp"
 
 namespace sphray::bench {
@@ -57,6 +58,26 @@ std::vector<Ray> draw_sample(const std::vector<Ray>& rays) {
   return sample;
 }
 
+// The rays a path-traced 512 x 512 frame of the scene (1 sample, the book's depth) traces at
+// bounces 1 to 3, in the order the renderer traces them: per tile, one wavefront per bounce.
+std::vector<Ray> bounce_rays(const render::Scene& scene) {
+  render::RenderOptions options;
+  options.mode = render::Mode::path;
+  options.width = 512;
+  options.height = 512;
+  options.spp = 1;
+  return render::record_path_rays(scene, options, 1, 3);
+}
+
+// count rays spread evenly over rays (the whole frame, not its top rows).
+std::vector<Ray> spread(const std::vector<Ray>& rays, std::size_t count) {
+  if (count >= rays.size()) return rays;
+  std::vector<Ray> out(count);
+  for (std::size_t i = 0; i < count; ++i)
+    out[i] = rays[i * rays.size() / count];
+  return out;
+}
+
 std::vector<Hit> reference_hits(SphereView view, const std::vector<Ray>& rays) {
   std::vector<Hit> hits(rays.size());
   for (std::size_t i = 0; i < rays.size(); ++i)
@@ -69,11 +90,16 @@ std::unique_ptr<Workload> make_workload(std::string_view scene, RayKind kind) {
   w->scene = std::string(scene);
   w->kind = kind;
   render::Scene preset = render::make_preset(w->scene);
+  // Recorded before the spheres move out of the scene (the path tracer needs them).
+  std::vector<Ray> bounces = kind == RayKind::bounce ? bounce_rays(preset) : std::vector<Ray>{};
   w->spheres = std::move(preset.spheres);
   const std::size_t brute = brute_ray_count(w->spheres.size());
   if (kind == RayKind::coherent) {
     w->rays = camera_rays(preset.camera, image_side(kFullRays));
     w->brute_rays = brute == kFullRays ? w->rays : camera_rays(preset.camera, image_side(brute));
+  } else if (kind == RayKind::bounce) {
+    w->rays = std::move(bounces);
+    w->brute_rays = spread(w->rays, brute);
   } else {
     w->rays = random_rays(scene_box(w->spheres), kFullRays, 2024);
     w->brute_rays.assign(w->rays.begin(), w->rays.begin() + static_cast<std::ptrdiff_t>(brute));
@@ -86,7 +112,22 @@ std::unique_ptr<Workload> make_workload(std::string_view scene, RayKind kind) {
 }  // namespace
 
 std::string_view ray_kind_name(RayKind kind) {
-  return kind == RayKind::coherent ? "coherent" : "incoherent";
+  switch (kind) {
+    case RayKind::coherent:
+      return "coherent";
+    case RayKind::incoherent:
+      return "incoherent";
+    case RayKind::bounce:
+      return "bounce";
+  }
+  return "";
+}
+
+std::span<const RayKind> ray_kinds(std::string_view scene) {
+  static constexpr std::array<RayKind, 3> kWithBounces = {RayKind::coherent, RayKind::incoherent,
+                                                          RayKind::bounce};
+  if (scene == "rtiow-final" || scene == "random:65536") return kWithBounces;
+  return std::span(kWithBounces).first(2);
 }
 
 std::span<const std::string_view> scene_names() {

@@ -12,9 +12,16 @@
 
 namespace sphray::bench {
 
-enum class RayKind { coherent, incoherent };
+/// coherent: a pinhole camera's rays; incoherent: random origins and directions; bounce: the
+/// rays path mode traces after the camera's (bounces 1 to 3, depth 2 to 4 counting the camera
+/// ray as 1), recorded from a 512 x 512 frame, each starting on a sphere at sphray::spawn().
+enum class RayKind { coherent, incoherent, bounce };
 
 std::string_view ray_kind_name(RayKind kind);
+
+/// The kinds a scene is run with: coherent and incoherent everywhere, bounce rays on the
+/// scenes of a path-traced frame's workload (rtiow-final and random:65536).
+std::span<const RayKind> ray_kinds(std::string_view scene);
 
 /// The scenes of every run, smallest first: the renderer's presets and its random scenes.
 std::span<const std::string_view> scene_names();

@@ -16,6 +16,15 @@ void check_camera(const CameraSpec& spec, int width, int height) {
       !std::isfinite(spec.vfov)) {
     throw SceneError("camera: expected finite lookfrom, lookat, vup and vfov");
   }
+  if (!std::isfinite(spec.defocus_angle) ||
+      !(spec.defocus_angle >= 0.0f && spec.defocus_angle < 180.0f)) {
+    throw SceneError("camera: expected defocus_angle in [0, 180) degrees, got " +
+                     std::to_string(spec.defocus_angle));
+  }
+  if (!std::isfinite(spec.focus_dist) || !(spec.focus_dist > 0.0f)) {
+    throw SceneError("camera: expected a positive focus_dist, got " +
+                     std::to_string(spec.focus_dist));
+  }
   if (!(spec.vfov > 0.0f && spec.vfov < 180.0f)) {
     throw SceneError("camera: expected vfov in (0, 180) degrees, got " + std::to_string(spec.vfov));
   }
@@ -46,6 +55,22 @@ Camera::Camera(const CameraSpec& spec, int width, int height) : width_(width), h
   pixel_du_ = viewport_u / static_cast<float>(width);
   pixel_dv_ = viewport_v / static_cast<float>(height);
   upper_left_ = -w - viewport_u / 2.0f - viewport_v / 2.0f;
+  // The book's defocus disk: radius focus_dist tan(angle / 2), in the plane of u and v.
+  const float lens_radius =
+      spec.focus_dist * std::tan(spec.defocus_angle * std::numbers::pi_v<float> / 360.0f);
+  lens_u_ = lens_radius * u;
+  lens_v_ = lens_radius * v;
+  focus_dist_ = spec.focus_dist;
+  has_defocus_ = lens_radius > 0.0f;
+}
+
+Ray Camera::ray(float px, float py, float lx, float ly) const {
+  const Ray pinhole = ray(px, py);
+  if (!has_defocus_) return pinhole;
+  // The pinhole ray reaches the viewport, at distance 1 along the view direction, at t = 1:
+  // the plane in focus at t = focus_dist.
+  const Vec3 offset = lx * lens_u_ + ly * lens_v_;
+  return {origin_ + offset, focus_dist_ * pinhole.dir - offset};
 }
 
 }  // namespace sphray::render

@@ -13,9 +13,24 @@ namespace {
 constexpr std::uint32_t kRtiowSeed = 20160101u;
 constexpr std::uint32_t kRandomSeed = 42u;
 
-void add_sphere(Scene& scene, Vec3 center, float radius, Vec3 color) {
+// A sphere whose colour (the other modes') stands for its material: the albedo, glass white.
+void add_sphere(Scene& scene, Vec3 center, float radius, const Material& material) {
   scene.spheres.add(center, radius);
-  scene.colors.push_back(color);
+  bool glass = material.kind == MaterialKind::dielectric;
+  scene.colors.push_back(glass ? Vec3{1, 1, 1} : material.albedo);
+  scene.materials.push_back(material);
+}
+
+void add_sphere(Scene& scene, Vec3 center, float radius, Vec3 color) {
+  add_sphere(scene, center, radius, Material{MaterialKind::lambertian, color});
+}
+
+Material metal(Vec3 albedo, float fuzz) {
+  return {MaterialKind::metal, albedo, fuzz};
+}
+
+Material glass(float ior) {
+  return {MaterialKind::dielectric, {1, 1, 1}, 0.0f, ior};
 }
 
 Vec3 random_color(SceneRandom& rng) {
@@ -46,16 +61,17 @@ Scene make_three() {
   return scene;
 }
 
-// Ray Tracing in One Weekend, chapter 14 ("Where Next?"): the cover scene. The draws follow the
-// book's order (material choice, then the centre, then the material's own draws) so the grid
-// has the book's structure; colours stand in for its materials: a diffuse albedo as drawn,
-// metal's albedo as drawn, glass white.
+// Ray Tracing in One Weekend, chapter 14 ("Where Next?"): the cover scene, with the book's
+// materials. The draws follow the book's order (material choice, then the centre, then the
+// material's own draws: albedo = random() * random() for diffuse, albedo in [0.5, 1) and fuzz
+// in [0, 0.5) for metal, glass of index 1.5), from a fixed seed.
 Scene make_rtiow_final() {
   Scene scene;
   scene.name = "rtiow-final";
   SceneRandom rng(kRtiowSeed);
   scene.spheres.reserve(1 + 22 * 22 + 3);
   scene.colors.reserve(1 + 22 * 22 + 3);
+  scene.materials.reserve(1 + 22 * 22 + 3);
   add_sphere(scene, {0, -1000, 0}, 1000.0f, {0.5f, 0.5f, 0.5f});
   for (int a = -11; a < 11; ++a) {
     for (int b = -11; b < 11; ++b) {
@@ -64,23 +80,22 @@ Scene make_rtiow_final() {
       float cz = static_cast<float>(b) + 0.9f * rng.uniform();
       Vec3 center{cx, 0.2f, cz};
       if (length(center - Vec3{4, 0.2f, 0}) <= 0.9f) continue;
-      Vec3 color{1, 1, 1};  // glass
       if (choose_material < 0.8f) {
-        color = random_color(rng) * random_color(rng);  // diffuse
+        add_sphere(scene, center, 0.2f, random_color(rng) * random_color(rng));
       } else if (choose_material < 0.95f) {
         float r = rng.uniform(0.5f, 1);
         float g = rng.uniform(0.5f, 1);
         float bl = rng.uniform(0.5f, 1);
-        color = {r, g, bl};
-        rng.uniform(0, 0.5f);  // the book's fuzz draw, kept so the sequence matches
+        add_sphere(scene, center, 0.2f, metal({r, g, bl}, rng.uniform(0, 0.5f)));
+      } else {
+        add_sphere(scene, center, 0.2f, glass(1.5f));
       }
-      add_sphere(scene, center, 0.2f, color);
     }
   }
-  add_sphere(scene, {0, 1, 0}, 1.0f, {1, 1, 1});
+  add_sphere(scene, {0, 1, 0}, 1.0f, glass(1.5f));
   add_sphere(scene, {-4, 1, 0}, 1.0f, {0.4f, 0.2f, 0.1f});
-  add_sphere(scene, {4, 1, 0}, 1.0f, {0.7f, 0.6f, 0.5f});
-  scene.camera = CameraSpec{{13, 2, 3}, {0, 0, 0}, {0, 1, 0}, 20.0f};
+  add_sphere(scene, {4, 1, 0}, 1.0f, metal({0.7f, 0.6f, 0.5f}, 0.0f));
+  scene.camera = CameraSpec{{13, 2, 3}, {0, 0, 0}, {0, 1, 0}, 20.0f, 0.6f, 10.0f};
   scene.width = 1200;
   scene.height = 675;
   return scene;
@@ -94,14 +109,14 @@ Scene make_random(std::size_t n) {
   SceneRandom rng(kRandomSeed);
   scene.spheres.reserve(n);
   scene.colors.reserve(n);
+  scene.materials.reserve(n);
   float scale = 50.0f / std::cbrt(static_cast<float>(n));
   for (std::size_t i = 0; i < n; ++i) {
     float x = rng.uniform(-50, 50);
     float y = rng.uniform(-50, 50);
     float z = rng.uniform(-50, 50);
     float radius = rng.uniform(0.5f, 1.5f) * scale;
-    scene.spheres.add({x, y, z}, radius);
-    scene.colors.push_back(random_color(rng));
+    add_sphere(scene, {x, y, z}, radius, random_color(rng));
   }
   // A sphere bounding the box and the largest radius fits the vertical field of view.
   float bound = 50.0f * std::numbers::sqrt3_v<float> + 1.5f * scale;

@@ -13,11 +13,13 @@
 
 #include "scene_queries.hpp"
 #include "sphray/render/camera.hpp"
+#include "sphray/render/path_tracer.hpp"
 
 namespace sphray::render {
 namespace {
 
-constexpr std::array<std::string_view, 5> kModeNames = {"normals", "flat", "depth", "id", "shaded"};
+constexpr std::array<std::string_view, 6> kModeNames = {"normals", "flat",   "depth",
+                                                        "id",      "shaded", "path"};
 constexpr int kMaxSpp = 65536;
 constexpr int kMaxThreads = 1024;
 constexpr std::size_t kTilePixels = kTileSize * kTileSize;
@@ -77,6 +79,8 @@ class Shader {
         return id_color(hit.id);
       case Mode::shaded:
         return diffuse(ray, hit, shadow_rays);
+      case Mode::path:
+        break;  // render_path
     }
     return {0, 0, 0};
   }
@@ -216,6 +220,7 @@ std::uint8_t to_byte(float c) {
 Image render(const Scene& scene, const RenderOptions& options, const Progress& progress,
              RenderStats* stats) {
   check_options(options);
+  if (options.mode == Mode::path) return render_path(scene, options, progress, stats);
   Camera camera(scene.camera, options.width, options.height);
   auto build_start = std::chrono::steady_clock::now();
   SceneQueries queries(scene.spheres, options.accel, options.threads);
@@ -230,6 +235,7 @@ Image render(const Scene& scene, const RenderOptions& options, const Progress& p
   std::size_t tiles = tiles_across * tiles_down;
   std::atomic<std::size_t> done{0};
   std::atomic<std::uint64_t> shadow_rays{0};
+  std::atomic<std::uint64_t> camera_rays{0};
 
   auto start = std::chrono::steady_clock::now();
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
@@ -239,7 +245,10 @@ Image render(const Scene& scene, const RenderOptions& options, const Progress& p
         TileRect rect = tile_rect(t, options.width, options.height);
         shadow_rays += render_tile(rect, camera, queries, shader, options, image);
         std::size_t finished = ++done;
-        if (progress) progress(finished, tiles);
+        camera_rays += static_cast<std::uint64_t>(rect.width) *
+                       static_cast<std::uint64_t>(rect.height) *
+                       static_cast<std::uint64_t>(options.spp);
+        if (progress) progress(finished, tiles, {camera_rays, 0, shadow_rays});
       }
     });
   });
@@ -253,6 +262,7 @@ Image render(const Scene& scene, const RenderOptions& options, const Progress& p
                          static_cast<std::uint64_t>(options.height) *
                          static_cast<std::uint64_t>(options.spp);
     stats->shadow_rays = shadow_rays;
+    stats->spp = options.spp;
   }
   return image;
 }

@@ -112,7 +112,8 @@ Vec3 camera_vec3_at(const json& value, const std::string& pointer, const std::st
 
 CameraSpec camera_at(const json& value) {
   const json& camera =
-      object_at(value, "/camera", "\"camera\"", {"lookfrom", "lookat", "vup", "vfov"});
+      object_at(value, "/camera", "\"camera\"",
+                {"lookfrom", "lookat", "vup", "vfov", "defocus_angle", "focus_dist"});
   CameraSpec spec;
   if (camera.contains("lookfrom"))
     spec.lookfrom = camera_vec3_at(camera["lookfrom"], "/camera/lookfrom", "\"lookfrom\"");
@@ -120,6 +121,11 @@ CameraSpec camera_at(const json& value) {
     spec.lookat = camera_vec3_at(camera["lookat"], "/camera/lookat", "\"lookat\"");
   if (camera.contains("vup")) spec.vup = camera_vec3_at(camera["vup"], "/camera/vup", "\"vup\"");
   if (camera.contains("vfov")) spec.vfov = number_at(camera["vfov"], "/camera/vfov", "\"vfov\"");
+  if (camera.contains("defocus_angle"))
+    spec.defocus_angle =
+        number_at(camera["defocus_angle"], "/camera/defocus_angle", "\"defocus_angle\"");
+  if (camera.contains("focus_dist"))
+    spec.focus_dist = number_at(camera["focus_dist"], "/camera/focus_dist", "\"focus_dist\"");
   try {
     Camera check(spec, 16, 9);
   } catch (const SceneError& e) {
@@ -127,6 +133,76 @@ CameraSpec camera_at(const json& value) {
     fail("/camera", message.substr(message.find("expected ") + 9));
   }
   return spec;
+}
+
+// An array of 3 numbers in [0, 1]: a colour or an albedo.
+Vec3 unit_color_at(const json& value, const std::string& pointer, const std::string& what) {
+  Vec3 color = vec3_at(value, pointer, what);
+  for (int i = 0; i < 3; ++i) {
+    if (!(color[i] >= 0.0f && color[i] <= 1.0f))
+      fail(pointer + "/" + std::to_string(i), what + " components in [0, 1]");
+  }
+  return color;
+}
+
+// A sphere's "material" (docs/scenes.md): its "type" first, then the keys that type takes.
+// albedo defaults to the sphere's colour, as a sphere without a material is that Lambertian.
+Material material_at(const json& value, const std::string& pointer, Vec3 color) {
+  const std::string what = "a material";
+  object_at(value, pointer, what, {"type", "albedo", "fuzz", "ior"});
+  if (!value.contains("type")) fail(pointer, "a material to have a \"type\"");
+  const json& type = value["type"];
+  std::optional<MaterialKind> kind;
+  if (type.is_string()) kind = parse_material_kind(type.get<std::string>());
+  if (!kind) {
+    fail(pointer + "/type",
+         "\"type\" to be \"lambertian\", \"metal\" or \"dielectric\", got " + type.dump());
+  }
+  Material m{*kind, color};
+  switch (*kind) {
+    case MaterialKind::lambertian:
+      object_at(value, pointer, "a lambertian material", {"type", "albedo"});
+      break;
+    case MaterialKind::metal:
+      object_at(value, pointer, "a metal material", {"type", "albedo", "fuzz"});
+      break;
+    case MaterialKind::dielectric:
+      object_at(value, pointer, "a dielectric material", {"type", "ior"});
+      m.albedo = {1, 1, 1};
+      break;
+  }
+  if (value.contains("albedo"))
+    m.albedo = unit_color_at(value["albedo"], pointer + "/albedo", "\"albedo\"");
+  if (value.contains("fuzz")) {
+    m.fuzz = number_at(value["fuzz"], pointer + "/fuzz", "\"fuzz\"");
+    if (!(m.fuzz >= 0.0f && m.fuzz <= 1.0f))
+      fail(pointer + "/fuzz", "\"fuzz\" in [0, 1], got " + value["fuzz"].dump());
+  }
+  if (value.contains("ior")) {
+    m.ior = number_at(value["ior"], pointer + "/ior", "\"ior\"");
+    if (!(m.ior > 0.0f))
+      fail(pointer + "/ior", "\"ior\" to be positive, got " + value["ior"].dump());
+  }
+  return m;
+}
+
+// The sky that lights path mode: {"horizon": [r, g, b], "zenith": [r, g, b]}, radiances >= 0.
+Sky sky_at(const json& value) {
+  object_at(value, "/sky", "\"sky\"", {"horizon", "zenith"});
+  Sky sky;
+  Vec3* out[2] = {&sky.horizon, &sky.zenith};
+  const char* keys[2] = {"horizon", "zenith"};
+  for (int k = 0; k < 2; ++k) {
+    if (!value.contains(keys[k])) continue;
+    const std::string pointer = std::string("/sky/") + keys[k];
+    const std::string what = std::string("\"") + keys[k] + "\"";
+    *out[k] = vec3_at(value[keys[k]], pointer, what);
+    for (int i = 0; i < 3; ++i) {
+      if (!((*out[k])[i] >= 0.0f))
+        fail(pointer + "/" + std::to_string(i), what + " components >= 0");
+    }
+  }
+  return sky;
 }
 
 void check_radius(const json& value, float radius, const std::string& pointer) {
@@ -139,7 +215,8 @@ void check_radius(const json& value, float radius, const std::string& pointer) {
 }
 
 void add_sphere_at(Scene& scene, const json& value, const std::string& pointer) {
-  const json& sphere = object_at(value, pointer, "a sphere", {"center", "radius", "color"});
+  const json& sphere =
+      object_at(value, pointer, "a sphere", {"center", "radius", "color", "material"});
   if (!sphere.contains("center")) fail(pointer, "a sphere to have a \"center\"");
   if (!sphere.contains("radius")) fail(pointer, "a sphere to have a \"radius\"");
   Vec3 center = vec3_at(sphere["center"], pointer + "/center", "\"center\"");
@@ -154,8 +231,14 @@ void add_sphere_at(Scene& scene, const json& value, const std::string& pointer) 
       }
     }
   }
+  Material material{MaterialKind::lambertian, color};
+  if (sphere.contains("material")) {
+    material = material_at(sphere["material"], pointer + "/material", color);
+    if (!sphere.contains("color")) color = material.albedo;  // the other modes show the albedo
+  }
   scene.spheres.add(center, radius);
   scene.colors.push_back(color);
+  scene.materials.push_back(material);
 }
 
 // The image size: both given, or one given and the other following 16:9, or the default.
@@ -168,7 +251,7 @@ void size_at(Scene& scene, const json& root) {
 }
 
 Scene scene_from(const json& root, const std::string& source) {
-  object_at(root, "", "the scene", {"name", "camera", "spheres", "width", "height"});
+  object_at(root, "", "the scene", {"name", "camera", "spheres", "width", "height", "sky"});
   Scene scene;
   scene.name = source;
   if (root.contains("name")) {
@@ -176,6 +259,7 @@ Scene scene_from(const json& root, const std::string& source) {
     scene.name = root["name"].get<std::string>();
   }
   if (root.contains("camera")) scene.camera = camera_at(root["camera"]);
+  if (root.contains("sky")) scene.sky = sky_at(root["sky"]);
   size_at(scene, root);
   if (!root.contains("spheres")) fail("", "the scene to have a \"spheres\" array");
   const json& spheres = root["spheres"];

@@ -9,6 +9,7 @@
 #include <charconv>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <limits>
@@ -38,6 +39,8 @@ struct RenderArgs {
   int spp = 4;
   int threads = 0;
   std::uint64_t seed = 0;
+  int max_depth = 50;
+  double time_limit = 0.0;
   std::string output = "sphray.png";
   bool quiet = false;
   bool force = false;  // replace a read-only output
@@ -107,12 +110,20 @@ void require_image_memory(const RenderArgs& args, const RenderOptions& options) 
   const std::size_t threads = options.threads > 0
                                   ? static_cast<std::size_t>(options.threads)
                                   : std::max(1u, std::thread::hardware_concurrency());
+  // Path mode also keeps every pixel's radiance in float twice: the sums and the means.
+  const std::size_t path_buffers = options.mode == Mode::path
+                                       ? 2 * sizeof(sphray::Vec3) *
+                                             static_cast<std::size_t>(options.width) *
+                                             static_cast<std::size_t>(options.height)
+                                       : 0;
   const std::size_t bytes =
       encoding_peak_bytes(*image_format_for(args.output), options.width, options.height) +
-      64 * kMiB + threads * 8 * kMiB;
+      path_buffers + 64 * kMiB + threads * 8 * kMiB;
   require_memory(bytes, args.output + ": a " + std::to_string(options.width) + "x" +
                             std::to_string(options.height) + " image");
 }
+
+std::string format_rate(double per_second);
 
 // A progress bar on stderr, shown only on a terminal and only once the render has run for half
 // a second, redrawn at most ten times a second. Called from worker threads.
@@ -123,7 +134,7 @@ class ProgressBar {
     if (shown_) std::fputs("\r\033[K", stderr);
   }
 
-  void update(std::size_t done, std::size_t total) {
+  void update(std::size_t done, std::size_t total, const RayCounts& rays) {
     if (!enabled_) return;
     std::unique_lock lock(mutex_, std::try_to_lock);
     if (!lock.owns_lock()) return;  // another thread is drawing; skip this one
@@ -134,8 +145,13 @@ class ProgressBar {
     shown_ = true;
     constexpr int kWidth = 40;
     int filled = static_cast<int>(kWidth * done / total);
-    std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(filled, '#').c_str(),
-                 std::string(kWidth - filled, ' ').c_str(), static_cast<int>(100 * done / total));
+    std::uint64_t all = rays.camera + rays.bounce + rays.shadow;
+    double seconds = std::chrono::duration<double>(now - start_).count();
+    std::fprintf(stderr, "\r[%s%s] %3d%% %.1fM camera + %.1fM bounce + %.1fM shadow rays, %s\033[K",
+                 std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(),
+                 static_cast<int>(100 * done / total), static_cast<double>(rays.camera) / 1e6,
+                 static_cast<double>(rays.bounce) / 1e6, static_cast<double>(rays.shadow) / 1e6,
+                 format_rate(static_cast<double>(all) / seconds).c_str());
     std::fflush(stderr);
   }
 
@@ -159,14 +175,25 @@ std::string format_rate(double per_second) {
 }
 
 void print_summary(const RenderArgs& args, const RenderOptions& options, const RenderStats& s) {
-  std::uint64_t rays = s.camera_rays + s.shadow_rays;
+  std::uint64_t rays = s.camera_rays + s.bounce_rays + s.shadow_rays;
   double rate = s.seconds > 0 ? static_cast<double>(rays) / s.seconds : 0.0;
   char accel[48] = "brute force";
   if (s.bvh) std::snprintf(accel, sizeof accel, "bvh built in %.3f s", s.build_seconds);
-  std::printf("wrote %s: %dx%d, %d spp, %s, %.3f s, %s (%llu camera + %llu shadow rays, %s)\n",
-              args.output.c_str(), options.width, options.height, options.spp, args.mode.c_str(),
-              s.seconds, format_rate(rate).c_str(), static_cast<unsigned long long>(s.camera_rays),
-              static_cast<unsigned long long>(s.shadow_rays), accel);
+  std::printf(
+      "wrote %s: %dx%d, %d spp, %s, %.3f s, %s (%llu camera + %llu bounce + %llu shadow rays, "
+      "%s)\n",
+      args.output.c_str(), options.width, options.height, s.spp, args.mode.c_str(), s.seconds,
+      format_rate(rate).c_str(), static_cast<unsigned long long>(s.camera_rays),
+      static_cast<unsigned long long>(s.bounce_rays),
+      static_cast<unsigned long long>(s.shadow_rays), accel);
+  if (options.mode == Mode::path && s.kernel_seconds > 0) {
+    std::printf(
+        "path: max depth %d%s; thread time %.3f s, %.1f%% in the kernel, renderer "
+        "overhead %.1f%% of kernel time\n",
+        options.max_depth, s.spp < options.spp ? " (time limit reached)" : "", s.trace_seconds,
+        100.0 * s.kernel_seconds / s.trace_seconds,
+        100.0 * (s.trace_seconds - s.kernel_seconds) / s.kernel_seconds);
+  }
 }
 
 int run_render(const RenderArgs& args) {
@@ -183,6 +210,8 @@ int run_render(const RenderArgs& args) {
     options.spp = args.spp;
     options.threads = worker_threads(args.threads);
     options.seed = args.seed;
+    options.max_depth = args.max_depth;
+    options.time_limit = args.time_limit;
     options.accel = *parse_accel(args.accel);  // CLI11 checked the name
     PendingImageFile output(args.output, args.force);
     require_image_memory(args, options);
@@ -191,7 +220,10 @@ int run_render(const RenderArgs& args) {
     {
       ProgressBar bar(!args.quiet && ::isatty(STDERR_FILENO));
       image = render(
-          scene, options, [&bar](std::size_t done, std::size_t total) { bar.update(done, total); },
+          scene, options,
+          [&bar](std::size_t done, std::size_t total, const RayCounts& rays) {
+            bar.update(done, total, rays);
+          },
           &stats);
     }
     output.commit(image);
@@ -238,6 +270,19 @@ int run_info() {
   return 0;
 }
 
+// A number of seconds from 0 to 1e9: CLI::Range lets NaN through and prints its bounds as %f.
+CLI::Validator seconds_validator() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double seconds = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !(seconds >= 0.0 && seconds <= 1e9))
+          return "expected seconds from 0 to 1e9, got " + text;
+        return {};
+      },
+      "SECONDS");
+}
+
 void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_option("--scene,-s", args.scene, "A preset (see `sphray scenes`) or a .json file")
       ->capture_default_str();
@@ -256,6 +301,15 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->capture_default_str();
   render.add_option("--seed", args.seed, "Seed of the sample jitter (0 to 2^64 - 1)")
       ->check(seed_range())
+      ->capture_default_str();
+  render.add_option("--max-depth", args.max_depth, "Path mode: rays per path at most")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  render
+      .add_option("--time-limit", args.time_limit,
+                  "Path mode: seconds after which no sample is started (0: none); every pixel "
+                  "gets the same samples, at least one")
+      ->check(seconds_validator())
       ->capture_default_str();
   render.add_option("-o,--output", args.output, "Output image, .png or .ppm")
       ->capture_default_str();

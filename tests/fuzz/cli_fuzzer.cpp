@@ -9,8 +9,9 @@
 // - every '/' becomes '_', so all paths stay in the scratch folder the fuzzer works in (it runs
 //   as whatever user starts it, root in CI), and in an argument that names random:N, runs of
 //   more than 4 digits are cut to 4, so a scene has at most 9999 spheres;
-// - render() is wrapped (the linker's --wrap, see CMakeLists.txt): a valid size or sample
-//   count above 16x16 pixels and 2 samples is lowered to that before the real render() runs.
+// - render() is wrapped (the linker's --wrap, see CMakeLists.txt): a valid size, sample count
+//   or path depth above 16x16 pixels, 2 samples and 8 rays is lowered to that before the real
+//   render() runs.
 //   Invalid values pass through untouched, so the refusals are the real ones.
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -36,11 +37,11 @@ namespace sphray::render {
 // signature changes, the link fails with an undefined __real_ symbol: update both names here
 // and the --wrap option in CMakeLists.txt.
 Image real_render(const Scene&, const RenderOptions&, const Progress&, RenderStats*) asm(
-    "__real__ZN6sphray6render6renderERKNS0_5SceneERKNS0_13RenderOptionsERKSt8functionIFvmmEEPNS0_"
-    "11RenderStatsE");
+    "__real__ZN6sphray6render6renderERKNS0_5SceneERKNS0_13RenderOptionsERKSt8functionIFvmmRKNS0_"
+    "9RayCountsEEEPNS0_11RenderStatsE");
 Image bounded_render(const Scene&, const RenderOptions&, const Progress&, RenderStats*) asm(
-    "__wrap__ZN6sphray6render6renderERKNS0_5SceneERKNS0_13RenderOptionsERKSt8functionIFvmmEEPNS0_"
-    "11RenderStatsE");
+    "__wrap__ZN6sphray6render6renderERKNS0_5SceneERKNS0_13RenderOptionsERKSt8functionIFvmmRKNS0_"
+    "9RayCountsEEEPNS0_11RenderStatsE");
 
 Image bounded_render(const Scene& scene, const RenderOptions& options, const Progress& progress,
                      RenderStats* stats) {
@@ -48,6 +49,7 @@ Image bounded_render(const Scene& scene, const RenderOptions& options, const Pro
   if (small.width > 16) small.width = 16;
   if (small.height > 16) small.height = 16;
   if (small.spp > 2) small.spp = 2;
+  if (small.max_depth > 8) small.max_depth = 8;
   return real_render(scene, small, progress, stats);
 }
 }  // namespace sphray::render

@@ -43,6 +43,33 @@ TEST(Camera, LooksFromLookfromTowardsLookat) {
   EXPECT_GT(top.y, centre.dir.y);
 }
 
+// The book's defocus blur on its cover camera: angle 0.6 degrees at focus distance 10, a lens of
+// radius 10 tan(0.3 degrees) = 0.05236 across the image plane. Every lens point's ray passes
+// through the point 10 units along the pinhole ray (the plane in focus).
+TEST(Camera, DefocusRaysMeetOnThePlaneInFocus) {
+  const CameraSpec spec{{13, 2, 3}, {0, 0, 0}, {0, 1, 0}, 20.0f, 0.6f, 10.0f};
+  const Camera camera(spec, 1200, 675);
+  ASSERT_TRUE(camera.has_defocus());
+  const Vec3 w = normalize(Vec3{13, 2, 3});  // backwards along the view
+  const double radius = 10.0 * std::tan(0.3 * 3.14159265358979 / 180.0);
+  for (Vec3 pixel : {Vec3{600, 337.5f, 0}, Vec3{0, 0, 0}, Vec3{1199.5f, 10, 0}}) {
+    const Ray pinhole = camera.ray(pixel.x, pixel.y);
+    const Vec3 focus = spec.lookfrom + 10.0f * pinhole.dir;
+    for (Vec3 lens : {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, -1, 0}, Vec3{-0.6f, 0.7f, 0}}) {
+      const Ray r = camera.ray(pixel.x, pixel.y, lens.x, lens.y);
+      const Vec3 across = r.origin - spec.lookfrom;
+      EXPECT_NEAR(length(across), radius * std::hypot(lens.x, lens.y), 1e-6);
+      EXPECT_NEAR(dot(across, w), 0.0f, 1e-6f);  // the lens lies across the view
+      expect_near(r.origin + r.dir, focus, 1e-4f);
+    }
+  }
+  // No blur: the pinhole ray, whatever the lens point.
+  const Camera pinhole({{13, 2, 3}, {0, 0, 0}, {0, 1, 0}, 20.0f}, 1200, 675);
+  EXPECT_FALSE(pinhole.has_defocus());
+  EXPECT_EQ(pinhole.ray(3, 4, 0.5f, 0.5f).origin, (Vec3{13, 2, 3}));
+  EXPECT_EQ(pinhole.ray(3, 4, 0.5f, 0.5f).dir, pinhole.ray(3, 4).dir);
+}
+
 TEST(Camera, RefusesWhatCannotBePlaced) {
   EXPECT_THROW(Camera(CameraSpec{{1, 1, 1}, {1, 1, 1}, {0, 1, 0}, 40}, 10, 10), SceneError);
   EXPECT_THROW(Camera(CameraSpec{{0, 5, 0}, {0, 0, 0}, {0, 1, 0}, 40}, 10, 10), SceneError);
@@ -50,6 +77,13 @@ TEST(Camera, RefusesWhatCannotBePlaced) {
   EXPECT_THROW(Camera(CameraSpec{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 180}, 10, 10), SceneError);
   EXPECT_THROW(Camera(CameraSpec{{0, 0, NAN}, {0, 0, -1}, {0, 1, 0}, 90}, 10, 10), SceneError);
   EXPECT_THROW(Camera(CameraSpec{}, 0, 10), SceneError);
+  EXPECT_THROW(Camera(CameraSpec{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 90, -1, 10}, 10, 10),
+               SceneError);
+  EXPECT_THROW(Camera(CameraSpec{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 90, 180, 10}, 10, 10),
+               SceneError);
+  EXPECT_THROW(Camera(CameraSpec{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 90, 1, 0}, 10, 10), SceneError);
+  EXPECT_THROW(Camera(CameraSpec{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 90, 1, NAN}, 10, 10),
+               SceneError);
 }
 
 }  // namespace

@@ -107,6 +107,25 @@ TEST_F(Cli, PpmIsP3WithTheSamePixelsAsThePng) {
   stbi_image_free(png);
 }
 
+// Path mode through the command: the summary counts camera and bounce rays, one image per
+// seed whatever the thread count, and a time limit that is up at once still writes 1 spp.
+TEST_F(Cli, PathModeReportsBounceRaysAndIsTheSameOnAnyThreads) {
+  const std::string common = "render -m path -s three -W 32 -H 18 --spp 4 --seed 5 ";
+  Result one = run(common + "-j 1 -o " + path("one.png"));
+  ASSERT_EQ(one.status, 0) << one.out;
+  EXPECT_NE(one.out.find("32x18, 4 spp, path"), std::string::npos) << one.out;
+  EXPECT_NE(one.out.find("2304 camera + "), std::string::npos) << one.out;  // 32 * 18 * 4
+  EXPECT_EQ(one.out.find(" + 0 bounce"), std::string::npos) << one.out;
+  EXPECT_NE(one.out.find("rays/s"), std::string::npos) << one.out;
+  Result two = run(common + "-j 2 -o " + path("two.png"));
+  ASSERT_EQ(two.status, 0) << two.out;
+  EXPECT_EQ(read_bytes(path("one.png")), read_bytes(path("two.png")));
+  Result limited = run(common + "--time-limit 1e-9 -o " + path("limited.png"));
+  ASSERT_EQ(limited.status, 0) << limited.out;
+  EXPECT_NE(limited.out.find("32x18, 1 spp, path"), std::string::npos) << limited.out;
+  EXPECT_NE(limited.out.find("time limit reached"), std::string::npos) << limited.out;
+}
+
 TEST_F(Cli, QuietPrintsNothing) {
   Result r = run("render -s single -W 16 -H 9 -q -o " + path("q.png"));
   EXPECT_EQ(r.status, 0);
@@ -205,9 +224,41 @@ INSTANTIATE_TEST_SUITE_P(
         Refusal{"UnknownKey", "render -s DIR/bad.json",
                 std::string("{\"spheres\": [") + kSphere + "], \"lights\": []}", 2,
                 "sphray: DIR/bad.json:1:54: expected one of the keys name, camera, spheres, "
-                "width, height in the scene, got unknown key \"lights\""},
+                "width, height, sky in the scene, got unknown key \"lights\""},
+        Refusal{"UnknownMaterial", "render -s DIR/bad.json",
+                "{\"spheres\": [\n  {\"center\": [0,0,-1], \"radius\": 0.5, \"material\": "
+                "{\"type\": \"plastic\"}}\n]}",
+                2,
+                "sphray: DIR/bad.json:2:60: expected \"type\" to be \"lambertian\", \"metal\" or "
+                "\"dielectric\", got \"plastic\""},
+        Refusal{"AlbedoAboveOne", "render -s DIR/bad.json",
+                "{\"spheres\": [{\"center\": [0,0,-1], \"radius\": 0.5, \"material\": "
+                "{\"type\": \"metal\", \"albedo\": [1, 1.01, 1]}}]}",
+                2, "sphray: DIR/bad.json:1:94: expected \"albedo\" components in [0, 1]"},
+        Refusal{"NegativeFuzz", "render -s DIR/bad.json",
+                "{\"spheres\": [{\"center\": [0,0,-1], \"radius\": 0.5, \"material\": "
+                "{\"type\": \"metal\", \"fuzz\": -1}}]}",
+                2, "sphray: DIR/bad.json:1:88: expected \"fuzz\" in [0, 1], got -1"},
+        Refusal{"ZeroIor", "render -s DIR/bad.json",
+                "{\"spheres\": [{\"center\": [0,0,-1], \"radius\": 0.5, \"material\": "
+                "{\"type\": \"dielectric\", \"ior\": 0}}]}",
+                2, "sphray: DIR/bad.json:1:92: expected \"ior\" to be positive, got 0"},
+        Refusal{"NaNIor", "render -s DIR/bad.json",
+                "{\"spheres\": [{\"center\": [0,0,-1], \"radius\": 0.5, \"material\": "
+                "{\"type\": \"dielectric\", \"ior\": NaN}}]}",
+                2,
+                "sphray: DIR/bad.json:1:92: expected valid JSON (syntax error while parsing value "
+                "- invalid literal; last read: '\"ior\": N')"},
+        Refusal{"ZeroMaxDepth", "render -m path --max-depth 0", "", 2,
+                "sphray: --max-depth: Value 0 not in range 1 to 10000 (see sphray --help)"},
+        Refusal{"NegativeTimeLimit", "render -m path --time-limit -1", "", 2,
+                "sphray: --time-limit: expected seconds from 0 to 1e9, got -1 (see sphray --help)"},
+        Refusal{"NaNTimeLimit", "render -m path --time-limit nan", "", 2,
+                "sphray: --time-limit: expected seconds from 0 to 1e9, got nan (see sphray "
+                "--help)"},
         Refusal{"UnknownMode", "render -m glossy", "", 2,
-                "sphray: --mode: glossy not in {normals,flat,depth,id,shaded} (see sphray --help)"},
+                "sphray: --mode: glossy not in {normals,flat,depth,id,shaded,path} (see sphray "
+                "--help)"},
         Refusal{"UnknownAccel", "render --accel kd-tree", "", 2,
                 "sphray: --accel: kd-tree not in {auto,bvh,brute} (see sphray --help)"},
         Refusal{"ZeroWidth", "render -W 0", "", 2,

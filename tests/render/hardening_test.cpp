@@ -38,9 +38,10 @@ TEST(Hardening, UnknownKeysAreQuotedOnOneLine) {
     parse_scene(R"({"a\nb": true, "spheres": []})", "x.json");
     ADD_FAILURE() << "accepted an unknown key";
   } catch (const SceneError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "x.json:1:2: expected one of the keys name, camera, spheres, width, height in the "
-              "scene, got unknown key \"a\\nb\"");
+    EXPECT_EQ(
+        std::string(e.what()),
+        "x.json:1:2: expected one of the keys name, camera, spheres, width, height, sky in the "
+        "scene, got unknown key \"a\\nb\"");
   }
 }
 

@@ -212,9 +212,11 @@ TEST(Render, ReportsRaysAndProgress) {
   std::atomic<std::size_t> calls{0}, last_total{0};
   render(
       make_preset("single"), o,
-      [&](std::size_t, std::size_t total) {
+      [&](std::size_t, std::size_t total, const RayCounts& rays) {
         ++calls;
         last_total = total;
+        EXPECT_LE(rays.camera, 40u * 20u * 2u);
+        EXPECT_EQ(rays.bounce, 0u);
       },
       &stats);
   EXPECT_EQ(stats.camera_rays, 40u * 20u * 2u);

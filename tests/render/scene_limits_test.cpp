@@ -56,12 +56,14 @@ TEST(SceneLimits, DuplicateKeysAreRefusedAtTheSecondCopy) {
 
 TEST(SceneLimits, ColumnsCountCharactersNotBytes) {
   // The byte order mark (3 bytes) and "é" (2 bytes) are one character each, the BOM not shown.
-  EXPECT_EQ(refusal("\xEF\xBB\xBF{\"spheres\": [], \"x\": 1}"),
-            "x.json:1:17: expected one of the keys name, camera, spheres, width, height in the "
-            "scene, got unknown key \"x\"");
-  EXPECT_EQ(refusal("{\"name\": \"\xC3\xA9\", \"x\": 1}"),
-            "x.json:1:15: expected one of the keys name, camera, spheres, width, height in the "
-            "scene, got unknown key \"x\"");
+  EXPECT_EQ(
+      refusal("\xEF\xBB\xBF{\"spheres\": [], \"x\": 1}"),
+      "x.json:1:17: expected one of the keys name, camera, spheres, width, height, sky in the "
+      "scene, got unknown key \"x\"");
+  EXPECT_EQ(
+      refusal("{\"name\": \"\xC3\xA9\", \"x\": 1}"),
+      "x.json:1:15: expected one of the keys name, camera, spheres, width, height, sky in the "
+      "scene, got unknown key \"x\"");
 }
 
 TEST(SceneLimits, NestingBeyondTheLimitIsRefusedWhereItStarts) {

@@ -60,6 +60,43 @@ TEST(Presets, RtiowFinalHasTheBooksLayout) {
   EXPECT_EQ(s.camera.lookfrom, (Vec3{13, 2, 3}));
   EXPECT_EQ(s.camera.lookat, (Vec3{0, 0, 0}));
   EXPECT_EQ(s.camera.vfov, 20.0f);
+  EXPECT_EQ(s.camera.defocus_angle, 0.6f);  // the book's cover camera
+  EXPECT_EQ(s.camera.focus_dist, 10.0f);
+}
+
+// The book's materials: the ground grey Lambertian, the three large spheres glass (1.5), brown
+// Lambertian and polished metal, and the grid drawn 80% diffuse, 15% metal, 5% glass (the 480-odd
+// draws put each share within a few points of that).
+TEST(Presets, RtiowFinalHasTheBooksMaterials) {
+  Scene s = make_preset("rtiow-final");
+  const std::size_t n = s.spheres.size();
+  ASSERT_EQ(s.materials.size(), n);
+  EXPECT_EQ(s.materials[0].kind, MaterialKind::lambertian);
+  EXPECT_EQ(s.materials[0].albedo, (Vec3{0.5f, 0.5f, 0.5f}));
+  EXPECT_EQ(s.materials[n - 3].kind, MaterialKind::dielectric);
+  EXPECT_EQ(s.materials[n - 3].ior, 1.5f);
+  EXPECT_EQ(s.materials[n - 2].kind, MaterialKind::lambertian);
+  EXPECT_EQ(s.materials[n - 2].albedo, (Vec3{0.4f, 0.2f, 0.1f}));
+  EXPECT_EQ(s.materials[n - 1].kind, MaterialKind::metal);
+  EXPECT_EQ(s.materials[n - 1].albedo, (Vec3{0.7f, 0.6f, 0.5f}));
+  EXPECT_EQ(s.materials[n - 1].fuzz, 0.0f);
+  std::size_t count[3] = {0, 0, 0};
+  for (std::size_t id = 1; id + 3 < n; ++id) {
+    const Material& m = s.materials[id];
+    ++count[static_cast<int>(m.kind)];
+    if (m.kind == MaterialKind::metal) {
+      EXPECT_GE(m.albedo.x, 0.5f);
+      EXPECT_GE(m.fuzz, 0.0f);
+      EXPECT_LT(m.fuzz, 0.5f);
+    }
+    if (m.kind == MaterialKind::dielectric) {
+      EXPECT_EQ(m.ior, 1.5f);
+    }
+  }
+  const double grid = static_cast<double>(n - 4);
+  EXPECT_NEAR(static_cast<double>(count[0]) / grid, 0.80, 0.06);
+  EXPECT_NEAR(static_cast<double>(count[1]) / grid, 0.15, 0.05);
+  EXPECT_NEAR(static_cast<double>(count[2]) / grid, 0.05, 0.03);
 }
 
 TEST(Presets, AreTheSameEveryTime) {
@@ -153,9 +190,10 @@ TEST(SceneJson, BadDocumentsSayWhereAndWhat) {
   EXPECT_EQ(error_of("[1]"), "s.json:1:1: expected the scene to be an object, got an array");
   EXPECT_EQ(error_of("{\n\"spheres\": [\n  {\"center\": [0,0,0], \"radius\": -1}]}"),
             "s.json:3:33: expected \"radius\" to be positive, got -1");
-  EXPECT_EQ(error_of("{\"spheres\": [{\"center\": [0,0,0], \"radius\": 1, \"colour\": [1,1,1]}]}"),
-            "s.json:1:47: expected one of the keys center, radius, color in a sphere, got "
-            "unknown key \"colour\"");
+  EXPECT_EQ(
+      error_of("{\"spheres\": [{\"center\": [0,0,0], \"radius\": 1, \"colour\": [1,1,1]}]}"),
+      "s.json:1:47: expected one of the keys center, radius, color, material in a sphere, got "
+      "unknown key \"colour\"");
   EXPECT_EQ(error_of("{\"spheres\": [{\"center\": [0,0,0]}]}"),
             "s.json:1:14: expected a sphere to have a \"radius\"");
   EXPECT_EQ(error_of("{\"spheres\": [{\"center\": [0,\"NaN\",0], \"radius\": 1}]}"),
@@ -173,6 +211,89 @@ TEST(SceneJson, BadDocumentsSayWhereAndWhat) {
             "s.json:1:11: expected \"width\" to be an integer from 1 to 16384");
   EXPECT_EQ(error_of("{\"spheres\": [{\"center\": [0,0,0], \"radius\": 1, \"color\": [0,2,0]}]}"),
             "s.json:1:59: expected \"color\" components in [0, 1]");
+}
+
+// A sphere's material, and the defaults that let files without one load: Lambertian with the
+// sphere's colour, the book's sky.
+TEST(SceneJson, ReadsMaterialsAndTheSky) {
+  Scene s = parse_scene(
+      R"({"sky": {"horizon": [0.25, 0.5, 1], "zenith": [2, 2, 2]},
+          "spheres": [{"center": [0,0,0], "radius": 1, "color": [0.1,0.2,0.3]},
+                      {"center": [0,0,0], "radius": 1,
+                       "material": {"type": "metal", "albedo": [0.7,0.6,0.5], "fuzz": 0.25}},
+                      {"center": [0,0,0], "radius": 1, "material": {"type": "dielectric"}},
+                      {"center": [0,0,0], "radius": 1,
+                       "material": {"type": "dielectric", "ior": 2.4}},
+                      {"center": [0,0,0], "radius": 1, "color": [0.9,0.8,0.7],
+                       "material": {"type": "lambertian"}}]})",
+      "m.json");
+  ASSERT_EQ(s.materials.size(), 5u);
+  EXPECT_EQ(s.materials[0].kind, MaterialKind::lambertian);
+  EXPECT_EQ(s.materials[0].albedo, (Vec3{0.1f, 0.2f, 0.3f}));
+  EXPECT_EQ(s.materials[1].kind, MaterialKind::metal);
+  EXPECT_EQ(s.materials[1].albedo, (Vec3{0.7f, 0.6f, 0.5f}));
+  EXPECT_EQ(s.materials[1].fuzz, 0.25f);
+  EXPECT_EQ(s.colors[1], (Vec3{0.7f, 0.6f, 0.5f}));  // the other modes show the albedo
+  EXPECT_EQ(s.materials[2].kind, MaterialKind::dielectric);
+  EXPECT_EQ(s.materials[2].ior, 1.5f);  // the book's glass
+  EXPECT_EQ(s.materials[3].ior, 2.4f);
+  EXPECT_EQ(s.materials[4].albedo, (Vec3{0.9f, 0.8f, 0.7f}));
+  EXPECT_EQ(s.sky.horizon, (Vec3{0.25f, 0.5f, 1}));
+  EXPECT_EQ(s.sky.zenith, (Vec3{2, 2, 2}));
+  Scene blurred = parse_scene(
+      R"({"camera": {"defocus_angle": 2, "focus_dist": 3.5}, "spheres": []})", "b.json");
+  EXPECT_EQ(blurred.camera.defocus_angle, 2.0f);
+  EXPECT_EQ(blurred.camera.focus_dist, 3.5f);
+  Scene plain = parse_scene(R"({"spheres": [{"center": [0,0,0], "radius": 1}]})", "p.json");
+  EXPECT_EQ(plain.materials[0].kind, MaterialKind::lambertian);
+  EXPECT_EQ(plain.materials[0].albedo, (Vec3{0.5f, 0.5f, 0.5f}));
+  EXPECT_EQ(plain.sky.horizon, (Vec3{1, 1, 1}));
+  EXPECT_EQ(plain.sky.zenith, (Vec3{0.5f, 0.7f, 1}));
+  EXPECT_EQ(plain.camera.defocus_angle, 0.0f);  // a pinhole
+  EXPECT_EQ(error_of(R"({"camera": {"focus_dist": 0}, "spheres": []})"),
+            "s.json:1:12: expected a positive focus_dist, got 0.000000");
+}
+
+std::string material_error(const std::string& material) {
+  return error_of(R"({"spheres": [{"center": [0,0,0], "radius": 1, "material": )" + material +
+                  "}]}");
+}
+
+// Each bad material, and the message; the material starts at column 59 (counted by hand).
+TEST(SceneJson, BadMaterialsSayWhereAndWhat) {
+  EXPECT_EQ(material_error(R"({"type": "glass"})"),
+            "s.json:1:68: expected \"type\" to be \"lambertian\", \"metal\" or \"dielectric\", "
+            "got \"glass\"");
+  EXPECT_EQ(material_error(R"({"albedo": [1,1,1]})"),
+            "s.json:1:59: expected a material to have a \"type\"");
+  EXPECT_EQ(material_error(R"({"type": "lambertian", "albedo": [0.5,1.5,0]})"),
+            "s.json:1:97: expected \"albedo\" components in [0, 1]");
+  EXPECT_EQ(material_error(R"({"type": "lambertian", "albedo": [0.5,-0.0001,0]})"),
+            "s.json:1:97: expected \"albedo\" components in [0, 1]");
+  EXPECT_EQ(material_error(R"({"type": "metal", "fuzz": -0.1})"),
+            "s.json:1:85: expected \"fuzz\" in [0, 1], got -0.1");
+  EXPECT_EQ(material_error(R"({"type": "dielectric", "ior": 0})"),
+            "s.json:1:89: expected \"ior\" to be positive, got 0");
+  EXPECT_EQ(material_error(R"({"type": "dielectric", "ior": -1.5})"),
+            "s.json:1:89: expected \"ior\" to be positive, got -1.5");
+  EXPECT_EQ(material_error(R"({"type": "dielectric", "ior": 1e39})"),
+            "s.json:1:89: expected \"ior\" to be a finite number (as a float)");
+  EXPECT_EQ(material_error(R"({"type": "dielectric", "albedo": [1,1,1]})"),
+            "s.json:1:82: expected one of the keys type, ior in a dielectric material, got "
+            "unknown key \"albedo\"");
+  EXPECT_EQ(material_error(R"({"type": "metal", "shine": 1})"),
+            "s.json:1:77: expected one of the keys type, albedo, fuzz, ior in a material, got "
+            "unknown key \"shine\"");
+  EXPECT_EQ(material_error(R"("metal")"),
+            "s.json:1:59: expected a material to be an object, got a string");
+  // JSON has no NaN: the parser refuses it, at its position.
+  const std::string nan = material_error(R"({"type": "metal", "fuzz": NaN})");
+  EXPECT_EQ(nan.rfind("s.json:1:85: expected valid JSON (", 0), 0u) << nan;
+  EXPECT_EQ(error_of(R"({"sky": {"zenith": [1, -1, 1]}, "spheres": []})"),
+            "s.json:1:24: expected \"zenith\" components >= 0");
+  EXPECT_EQ(error_of(R"({"sky": {"sun": [1, 1, 1]}, "spheres": []})"),
+            "s.json:1:10: expected one of the keys horizon, zenith in \"sky\", got unknown key "
+            "\"sun\"");
 }
 
 TEST(SceneJson, SyntaxErrorsGiveTheParsersPosition) {

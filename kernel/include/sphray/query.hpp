@@ -34,6 +34,18 @@ void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hit
 /// normal = {0, 0, 0}, front_face = false.
 Surface surface(SphereView spheres, const Ray& ray, const Hit& hit);
 
+/// The ray leaving surface along dir (any length, not zero): its origin is surface.point moved
+/// along the normal, to the side dir points to, just past surface.error, so that a ray leaving
+/// outward (dot(dir, normal) > 0) never meets the sphere it leaves again, and one leaving inward
+/// meets the sphere's far side, never the point it starts from. tmin = 0, tmax = infinity.
+/// The guarantee and its limits: docs/kernel.md, "Leaving a surface". A surface from a miss
+/// (zero normal and error) gives the ray from surface.point.
+Ray spawn(const Surface& surface, Vec3 dir);
+
+/// The origin of spawn(surface, dir), for callers that build their own rays (pbrt-v4's
+/// OffsetRayOrigin).
+Vec3 offset_origin(const Surface& surface, Vec3 dir);
+
 /// The reference implementation: the same contract in plain C++, one sphere at a time.
 namespace scalar {
 Hit intersect(SphereView spheres, const Ray& ray);

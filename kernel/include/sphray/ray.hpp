@@ -35,10 +35,15 @@ struct Hit {
 /// Where a ray meets a sphere: the point lies on the sphere (re-projected from the ray's t),
 /// the normal is the sphere's outward unit normal there, and front_face says whether the ray
 /// arrived from outside (dot(dir, normal) < 0).
+///
+/// error bounds, coordinate by coordinate, how far the sphere's surface as any kernel computes
+/// it may lie from point: the rounding of point itself and the kernel's own rounding of the
+/// sphere (docs/kernel.md, "Leaving a surface"). spawn() offsets new rays by it; zero for a miss.
 struct Surface {
   Vec3 point;
   Vec3 normal;
   bool front_face;
+  Vec3 error{0.0f, 0.0f, 0.0f};
 };
 
 }  // namespace sphray

@@ -1,4 +1,5 @@
-// The pinhole camera of Ray Tracing in One Weekend: focal length 1, no defocus blur.
+// The camera of Ray Tracing in One Weekend: a pinhole at focal length 1, and for path mode the
+// book's defocus blur.
 #pragma once
 
 #include "sphray/render/scene.hpp"
@@ -19,15 +20,25 @@ class Camera {
     return {origin_, upper_left_ + px * pixel_du_ + py * pixel_dv_};
   }
 
+  /// Path mode's ray through image point (px, py) from lens point (lx, ly) of the unit disk: it
+  /// leaves lookfrom moved across the lens and passes through the point where ray(px, py) meets
+  /// the plane in focus (the book's defocus blur). Without defocus it is ray(px, py).
+  Ray ray(float px, float py, float lx, float ly) const;
+
+  bool has_defocus() const { return has_defocus_; }
+
   int width() const { return width_; }
   int height() const { return height_; }
   Vec3 origin() const { return origin_; }
 
  private:
   Vec3 origin_;
-  Vec3 upper_left_;  // from the origin to the viewport's upper-left corner
-  Vec3 pixel_du_;    // one pixel to the right
-  Vec3 pixel_dv_;    // one pixel down
+  Vec3 upper_left_;       // from the origin to the viewport's upper-left corner
+  Vec3 pixel_du_;         // one pixel to the right
+  Vec3 pixel_dv_;         // one pixel down
+  Vec3 lens_u_, lens_v_;  // the lens's radius along the image's right and up
+  float focus_dist_;
+  bool has_defocus_;
   int width_, height_;
 };
 

@@ -15,9 +15,9 @@
 
 namespace sphray::render {
 
-enum class Mode { normals, flat, depth, id, shaded };
+enum class Mode { normals, flat, depth, id, shaded, path };
 
-/// "normals", "flat", "depth", "id", "shaded", in that order.
+/// "normals", "flat", "depth", "id", "shaded", "path", in that order.
 std::vector<std::string> mode_names();
 std::string_view mode_name(Mode mode);
 std::optional<Mode> parse_mode(std::string_view name);
@@ -37,6 +37,8 @@ struct RenderOptions {
   std::uint64_t seed = 0;  // the jitter's seed
   int threads = 0;         // 0: as many as oneTBB offers
   Accel accel = Accel::automatic;
+  int max_depth = 50;       // path mode: rays per path at most, the camera's included (the book's)
+  double time_limit = 0.0;  // path mode: seconds after which no sample is started (0: none)
 };
 
 /// 8-bit RGB, rows top to bottom, no padding.
@@ -51,10 +53,20 @@ struct RenderStats {
   bool bvh = false;               // whether a BVH answered the queries
   std::uint64_t camera_rays = 0;  // width * height * spp
   std::uint64_t shadow_rays = 0;  // occlusion queries (shaded mode)
+  std::uint64_t bounce_rays = 0;  // path mode: rays after the camera's
+  int spp = 0;                    // samples every pixel got (path mode: fewer on a time limit)
+  double kernel_seconds = 0;      // path mode: thread time in the kernel's stream calls
+  double trace_seconds = 0;       // path mode: thread time in the tiles, kernel included
 };
 
-/// Called from worker threads after each tile with the tiles finished so far and the total.
-using Progress = std::function<void(std::size_t done, std::size_t total)>;
+/// Rays traced so far, by kind.
+struct RayCounts {
+  std::uint64_t camera = 0, bounce = 0, shadow = 0;
+};
+
+/// Called from worker threads after each tile with the tiles finished so far, the total (path
+/// mode: tiles times samples) and the rays traced so far.
+using Progress = std::function<void(std::size_t done, std::size_t total, const RayCounts& rays)>;
 
 inline constexpr int kTileSize = 16;
 

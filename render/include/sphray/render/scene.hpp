@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "sphray/render/material.hpp"
 #include "sphray/sphray.hpp"
 
 namespace sphray::render {
@@ -23,15 +24,32 @@ struct CameraSpec {
   Vec3 lookat{0, 0, -1};
   Vec3 vup{0, 1, 0};
   float vfov = 90.0f;  // vertical field of view, degrees
+  /// Path mode's depth of field, the book's defocus blur: the angle (degrees) of the cone from
+  /// each pixel's point on the plane in focus to the lens; 0 is a pinhole. The other modes
+  /// always use the pinhole.
+  float defocus_angle = 0.0f;
+  float focus_dist = 10.0f;  // from lookfrom to the plane in focus, along the view direction
 };
 
 struct Scene {
   std::string name;
   SphereSoA spheres;
   std::vector<Vec3> colors;  // one per sphere, each component in [0,1]
+  /// One per sphere for path mode; a sphere without one (a scene built by hand) is Lambertian
+  /// with its colour as albedo (material_of).
+  std::vector<Material> materials;
+  Sky sky;  // what lights path mode
   CameraSpec camera;
   int width = 400, height = 225;  // default image size
 };
+
+/// Sphere id's material: scene.materials[id], or Lambertian with its colour (grey without one).
+inline Material material_of(const Scene& scene, std::uint32_t id) {
+  if (id < scene.materials.size()) return scene.materials[id];
+  Material m;
+  if (id < scene.colors.size()) m.albedo = scene.colors[id];
+  return m;
+}
 
 /// A scene that cannot be made: an unknown preset, or a file that is missing, unreadable,
 /// malformed or invalid. what() is one line, "file:line:col: expected ..." when the position

@@ -1,0 +1,270 @@
+#include "sphray/render/path_tracer.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "scene_queries.hpp"
+#include "sphray/render/camera.hpp"
+
+namespace sphray::render {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr std::size_t kTilePixels = kTileSize * kTileSize;
+constexpr int kMaxDepth = 10000;
+constexpr int kMaxSpp = 65536;
+
+struct Tile {
+  int x0, y0, width, height;
+  std::size_t pixels() const {
+    return static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  }
+};
+
+Tile tile_at(std::size_t index, int image_width, int image_height) {
+  const std::size_t across = (static_cast<std::size_t>(image_width) + kTileSize - 1) / kTileSize;
+  const int x0 = static_cast<int>(index % across) * kTileSize;
+  const int y0 = static_cast<int>(index / across) * kTileSize;
+  return {x0, y0, std::min(kTileSize, image_width - x0), std::min(kTileSize, image_height - y0)};
+}
+
+std::size_t tile_count(int width, int height) {
+  const auto side = [](int n) { return (static_cast<std::size_t>(n) + kTileSize - 1) / kTileSize; };
+  return side(width) * side(height);
+}
+
+void check(const RenderOptions& o) {
+  if (o.width < 1 || o.width > kMaxImageSide || o.height < 1 || o.height > kMaxImageSide) {
+    throw std::invalid_argument("image size: expected 1 to " + std::to_string(kMaxImageSide) +
+                                " pixels a side");
+  }
+  if (o.spp < 1 || o.spp > kMaxSpp) {
+    throw std::invalid_argument("spp: expected 1 to " + std::to_string(kMaxSpp));
+  }
+  if (o.threads < 0 || o.threads > 1024) {
+    throw std::invalid_argument("threads: expected 0 (all) to 1024");
+  }
+  if (o.max_depth < 1 || o.max_depth > kMaxDepth) {
+    throw std::invalid_argument("max depth: expected 1 to " + std::to_string(kMaxDepth));
+  }
+  if (!(o.time_limit >= 0.0) || !std::isfinite(o.time_limit)) {
+    throw std::invalid_argument("time limit: expected a number of seconds >= 0 (0: none)");
+  }
+}
+
+// What the tiles add up while they run: rays by kind, and thread time in and out of the kernel.
+struct Counters {
+  std::atomic<std::uint64_t> camera{0}, bounce{0};
+  std::atomic<std::int64_t> kernel_ns{0}, trace_ns{0};
+  std::atomic<std::size_t> tiles_done{0};
+
+  RayCounts rays() const { return {camera.load(), bounce.load(), 0}; }
+};
+
+// Called with each wavefront the kernel traced, and its bounce (0: camera rays).
+using Recorder = std::function<void(int bounce, std::span<const Ray> rays)>;
+
+// Traces sample `sample` of every pixel of one tile, all of its paths together: per bounce one
+// stream call over the live paths, then each hit adds sky light or scatters. The live paths are
+// kept packed at the front of the arrays, in pixel order. Fixed-size buffers: no allocation.
+class TileTracer {
+ public:
+  TileTracer(const Scene& scene, const Camera& camera, const SceneQueries& queries,
+             const RenderOptions& options)
+      : scene_(scene), camera_(camera), queries_(queries), options_(options) {}
+
+  void trace(const Tile& tile, std::uint32_t sample, Vec3* sums, Counters& counters,
+             const Recorder* recorder) const {
+    const auto tile_start = Clock::now();
+    std::array<Ray, kTilePixels> rays;
+    std::array<Hit, kTilePixels> hits;
+    std::array<Vec3, kTilePixels> throughput;
+    std::array<std::uint16_t, kTilePixels> slot;  // the path's pixel within the tile
+    std::array<Vec3, kTilePixels> radiance{};
+    const std::size_t n = tile.pixels();
+    for (std::size_t i = 0; i < n; ++i) {
+      rays[i] = camera_ray(tile, i, sample);
+      throughput[i] = {1, 1, 1};
+      slot[i] = static_cast<std::uint16_t>(i);
+    }
+    std::size_t live = n;
+    std::int64_t kernel_ns = 0;
+    std::uint64_t bounce_rays = 0;
+    for (int bounce = 0; bounce < options_.max_depth && live > 0; ++bounce) {
+      const auto kernel_start = Clock::now();
+      queries_.intersect(std::span(rays.data(), live), std::span(hits.data(), live));
+      kernel_ns +=
+          std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - kernel_start).count();
+      if (recorder != nullptr) (*recorder)(bounce, std::span(rays.data(), live));
+      if (bounce > 0) bounce_rays += live;
+      std::size_t kept = 0;
+      for (std::size_t k = 0; k < live; ++k) {
+        const Ray& ray = rays[k];
+        const std::uint16_t s = slot[k];
+        if (!hits[k].found()) {
+          radiance[s] += throughput[k] * scene_.sky.radiance(ray.dir);
+          continue;
+        }
+        const Surface surface = queries_.surface(ray, hits[k]);
+        PathRandom random(options_.seed, pixel_index(tile, s), sample,
+                          static_cast<std::uint32_t>(bounce) + 1);
+        const auto next = scatter(material_of(scene_, hits[k].id), ray.dir, surface, random);
+        if (!next) continue;  // absorbed
+        throughput[kept] = throughput[k] * next->attenuation;
+        rays[kept] = spawn(surface, next->direction);
+        slot[kept] = s;
+        ++kept;
+      }
+      live = kept;  // paths still going after max_depth rays carry no light, as in the book
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      sums[i] += radiance[i];
+    counters.camera += n;
+    counters.bounce += bounce_rays;
+    counters.kernel_ns += kernel_ns;
+    counters.trace_ns +=
+        std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - tile_start).count();
+  }
+
+ private:
+  std::uint64_t pixel_index(const Tile& tile, std::size_t i) const {
+    const auto x = static_cast<std::uint64_t>(tile.x0 + static_cast<int>(i) % tile.width);
+    const auto y = static_cast<std::uint64_t>(tile.y0 + static_cast<int>(i) / tile.width);
+    return y * static_cast<std::uint64_t>(options_.width) + x;
+  }
+
+  // A point drawn uniformly in the pixel, as the book's sample_square does, and one on the
+  // lens when the camera has defocus blur.
+  Ray camera_ray(const Tile& tile, std::size_t i, std::uint32_t sample) const {
+    PathRandom random(options_.seed, pixel_index(tile, i), sample, 0);
+    const float jx = random.uniform();
+    const float jy = random.uniform();
+    const float px = static_cast<float>(tile.x0 + static_cast<int>(i) % tile.width) + jx;
+    const float py = static_cast<float>(tile.y0 + static_cast<int>(i) / tile.width) + jy;
+    if (!camera_.has_defocus()) return camera_.ray(px, py);
+    const Vec3 lens = random.in_unit_disk();
+    return camera_.ray(px, py, lens.x, lens.y);
+  }
+
+  const Scene& scene_;
+  const Camera& camera_;
+  const SceneQueries& queries_;
+  const RenderOptions& options_;
+};
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+std::vector<Vec3> render_radiance(const Scene& scene, const RenderOptions& options,
+                                  const Progress& progress, RenderStats* stats) {
+  check(options);
+  const Camera camera(scene.camera, options.width, options.height);
+  const auto build_start = Clock::now();
+  const SceneQueries queries(scene.spheres, options.accel, options.threads);
+  const double build_seconds = seconds_since(build_start);
+  const TileTracer tracer(scene, camera, queries, options);
+  const std::size_t tiles = tile_count(options.width, options.height);
+  // Sums per tile, each tile's pixels together, so a tile's thread writes one block.
+  std::vector<Vec3> sums(tiles * kTilePixels, Vec3{0, 0, 0});
+  Counters counters;
+  const std::size_t total = tiles * static_cast<std::size_t>(options.spp);
+
+  // One pass per sample over every tile: a time limit is checked between passes, so every
+  // pixel gets the same number of samples (at least one), and a pass is never cut short.
+  const auto start = Clock::now();
+  int passes = 0;
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  while (passes < options.spp) {
+    const auto sample = static_cast<std::uint32_t>(passes);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles, 1), [&](const auto& range) {
+        for (std::size_t t = range.begin(); t != range.end(); ++t) {
+          tracer.trace(tile_at(t, options.width, options.height), sample, &sums[t * kTilePixels],
+                       counters, nullptr);
+          const std::size_t done = ++counters.tiles_done;
+          if (progress) progress(done, total, counters.rays());
+        }
+      });
+    });
+    ++passes;
+    if (options.time_limit > 0.0 && seconds_since(start) >= options.time_limit) break;
+  }
+  const double seconds = seconds_since(start);
+
+  std::vector<Vec3> image(static_cast<std::size_t>(options.width) *
+                          static_cast<std::size_t>(options.height));
+  const float inverse = 1.0f / static_cast<float>(passes);
+  for (std::size_t t = 0; t < tiles; ++t) {
+    const Tile tile = tile_at(t, options.width, options.height);
+    for (std::size_t i = 0; i < tile.pixels(); ++i) {
+      const std::size_t x =
+          static_cast<std::size_t>(tile.x0) + i % static_cast<std::size_t>(tile.width);
+      const std::size_t y =
+          static_cast<std::size_t>(tile.y0) + i / static_cast<std::size_t>(tile.width);
+      image[y * static_cast<std::size_t>(options.width) + x] = sums[t * kTilePixels + i] * inverse;
+    }
+  }
+  if (stats != nullptr) {
+    stats->seconds = seconds;
+    stats->build_seconds = queries.uses_bvh() ? build_seconds : 0.0;
+    stats->bvh = queries.uses_bvh();
+    stats->camera_rays = counters.camera;
+    stats->bounce_rays = counters.bounce;
+    stats->shadow_rays = 0;
+    stats->spp = passes;
+    stats->kernel_seconds = static_cast<double>(counters.kernel_ns.load()) * 1e-9;
+    stats->trace_seconds = static_cast<double>(counters.trace_ns.load()) * 1e-9;
+  }
+  return image;
+}
+
+Image render_path(const Scene& scene, const RenderOptions& options, const Progress& progress,
+                  RenderStats* stats) {
+  const std::vector<Vec3> radiance = render_radiance(scene, options, progress, stats);
+  Image image{options.width, options.height, std::vector<std::uint8_t>(3 * radiance.size())};
+  for (std::size_t i = 0; i < radiance.size(); ++i) {
+    // Gamma 2, as the book's linear_to_gamma: the square root of the clamped-below value.
+    const Vec3 c = radiance[i];
+    image.rgb[3 * i + 0] = to_byte(std::sqrt(std::max(c.x, 0.0f)));
+    image.rgb[3 * i + 1] = to_byte(std::sqrt(std::max(c.y, 0.0f)));
+    image.rgb[3 * i + 2] = to_byte(std::sqrt(std::max(c.z, 0.0f)));
+  }
+  return image;
+}
+
+std::vector<Ray> record_path_rays(const Scene& scene, const RenderOptions& options,
+                                  int first_bounce, int last_bounce) {
+  check(options);
+  const Camera camera(scene.camera, options.width, options.height);
+  const SceneQueries queries(scene.spheres, options.accel, options.threads);
+  const TileTracer tracer(scene, camera, queries, options);
+  std::vector<Ray> recorded;
+  const Recorder recorder = [&](int bounce, std::span<const Ray> rays) {
+    if (bounce >= first_bounce && bounce <= last_bounce)
+      recorded.insert(recorded.end(), rays.begin(), rays.end());
+  };
+  const std::size_t tiles = tile_count(options.width, options.height);
+  std::array<Vec3, kTilePixels> sums{};
+  Counters counters;
+  for (int s = 0; s < options.spp; ++s) {
+    for (std::size_t t = 0; t < tiles; ++t)
+      tracer.trace(tile_at(t, options.width, options.height), static_cast<std::uint32_t>(s),
+                   sums.data(), counters, &recorder);
+  }
+  return recorded;
+}
+
+}  // namespace sphray::render
