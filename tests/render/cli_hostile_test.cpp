@@ -26,6 +26,8 @@
 
 #include <stb/stb_image.h>
 
+#include "test_files.hpp"
+
 // Each ChildSetup names only what it changes (designated initializers); the rest defaults.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 
@@ -145,16 +147,8 @@ Outcome run(const ChildSetup& setup) {
   return Child(setup).wait();
 }
 
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-}
+using sphray::test::read_bytes;
+using sphray::test::write_text;
 
 // The size of a PNG, decoded independently of the code that wrote it; {0, 0} if it is none.
 std::pair<int, int> png_size(const fs::path& path) {
