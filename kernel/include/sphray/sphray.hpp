@@ -1,6 +1,7 @@
 // sphray: fast, exact ray/sphere intersection. This header includes the whole public contract.
 #pragma once
 
+#include "sphray/all_hits.hpp"
 #include "sphray/bvh.hpp"
 #include "sphray/isa.hpp"
 #include "sphray/query.hpp"

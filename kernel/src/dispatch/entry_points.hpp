@@ -4,6 +4,7 @@
 
 #include <cstddef>
 
+#include "all_hits/all_hits.hpp"
 #include "brute/brute_force.hpp"
 #include "bvh/scalar_walk.hpp"
 #include "bvh/stream.hpp"
@@ -49,6 +50,19 @@ struct EntryPoints {
     if (QueryPlan::scalar(bvh.count)) return scalar_bvh_intersect_stream(bvh, rays, hits, n);
     TreeStream<A>::intersect_stream(bvh, rays, hits, n);
   }
+
+  // Every crossing: the SIMD path whatever the size, since it returns the scalar reference's
+  // bits (the same roots) and a handful of spheres costs it no more than the scalar loop.
+  static std::size_t intersect_all(SphereView v, const Ray& ray, Hit* hits, bool* exits,
+                                   std::size_t capacity) {
+    HitList list(hits, exits, capacity);
+    return AllHits<A>::intersect_all(v, ray, list);
+  }
+  static std::size_t bvh_intersect_all(const BvhData& bvh, const Ray& ray, Hit* hits, bool* exits,
+                                       std::size_t capacity) {
+    HitList list(hits, exits, capacity);
+    return AllHits<A>::intersect_all(bvh, ray, list);
+  }
 };
 
 template <class A>
@@ -62,7 +76,9 @@ constexpr EntryTable make_entry_table(Isa isa) {
           E::Tree::kWidth,
           &E::bvh_intersect,
           &E::bvh_occluded,
-          &E::bvh_intersect_stream};
+          &E::bvh_intersect_stream,
+          &E::intersect_all,
+          &E::bvh_intersect_all};
 }
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

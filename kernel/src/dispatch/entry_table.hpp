@@ -28,6 +28,12 @@ struct EntryTable {
   Hit (*bvh_intersect)(const BvhData& bvh, const Ray& ray);
   bool (*bvh_occluded)(const BvhData& bvh, const Ray& ray);
   void (*bvh_intersect_stream)(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t count);
+  /// Every crossing (all_hits.hpp): the nearest capacity of them into hits (and exits, if not
+  /// null), sorted; returns how many there are in all.
+  std::size_t (*intersect_all)(SphereView spheres, const Ray& ray, Hit* hits, bool* exits,
+                               std::size_t capacity);
+  std::size_t (*bvh_intersect_all)(const BvhData& bvh, const Ray& ray, Hit* hits, bool* exits,
+                                   std::size_t capacity);
 };
 
 /// The kernel for isa, or nullptr if this build lacks it or this machine cannot run it.
