@@ -82,36 +82,6 @@ bool same_bits(const Hit& a, const Hit& b) {
   return a.id == b.id && std::memcmp(&a.t, &b.t, sizeof(float)) == 0;
 }
 
-// The scenes the issue names: random, clustered (every sphere overlapping many), nested
-// (concentric shells), identical (one sphere many times), and radii from 1e-3 to 1e3.
-enum class Shape { random, clustered, nested, identical, mixed_radii };
-
-SphereSoA make_scene(Shape shape, std::size_t n, std::mt19937& rng) {
-  SphereSoA s;
-  switch (shape) {
-    case Shape::random:
-      test::fill_random(s, n, rng);
-      break;
-    case Shape::clustered:
-      for (std::size_t i = 0; i < n; ++i)
-        s.add(test::random_in_box(rng, 1.0f), test::uniform(rng, 0.5f, 2.0f));
-      break;
-    case Shape::nested:
-      for (std::size_t i = 0; i < n; ++i)
-        s.add({1, 2, 3}, 0.5f + 0.25f * static_cast<float>(i));
-      break;
-    case Shape::identical:
-      for (std::size_t i = 0; i < n; ++i)
-        s.add({-1, 0.5f, 2}, 3.0f);
-      break;
-    case Shape::mixed_radii:
-      for (std::size_t i = 0; i < n; ++i)
-        s.add(test::random_in_box(rng, 10.0f), std::pow(10.0f, test::uniform(rng, -3.0f, 1.0f)));
-      break;
-  }
-  return s;
-}
-
 // Random rays from in and around the scenes (many start inside spheres); every third with a
 // finite random interval.
 std::vector<Ray> rays_for(std::size_t n, std::mt19937& rng) {
@@ -189,88 +159,80 @@ TEST(AllHits, InvalidInputHasNoCrossingsAndLeavesTheOutputAlone) {
 TEST(AllHits, EveryKernelAndTreeMatchTheReferences) {
   std::mt19937 rng(15);
   const auto kernels = test::runnable_kernels();
-  const Shape shapes[] = {Shape::random, Shape::clustered, Shape::nested, Shape::identical,
-                          Shape::mixed_radii};
-  const std::size_t sizes[] = {0, 1, 3, 17, 40, 300, 3000};
   std::size_t rays_checked = 0, decided = 0, crossings_seen = 0, capped = 0;
-  for (const Shape shape : shapes) {
-    for (const std::size_t n : sizes) {
-      const SphereSoA scene = make_scene(shape, n, rng);
-      const SphereView v = scene.view();
-      std::vector<SphereBVH> trees;
-      for (const EntryTable* k : kernels)
-        trees.emplace_back(v, k->isa);
-      for (const Ray& ray : rays_for(test::scaled(n >= 3000 ? 60 : 200), rng)) {
-        ++rays_checked;
-        const std::size_t total = scalar::intersect_all(v, ray, {}, {});
-        std::vector<Hit> want(total);
-        std::vector<char> want_exit(total);
-        {
-          auto flags = std::make_unique<bool[]>(total + 1);
-          ASSERT_EQ(scalar::intersect_all(v, ray, want, std::span(flags.get(), total)), total);
-          for (std::size_t i = 0; i < total; ++i)
-            want_exit[i] = flags[i];
-        }
-        crossings_seen += total;
-        // The first crossing is the closest hit.
-        const Hit closest = scalar::intersect(v, ray);
-        if (total == 0) {
-          EXPECT_FALSE(closest.found());
-        } else {
-          EXPECT_TRUE(same_bits(want[0], closest))
-              << "first crossing t " << want[0].t << " id " << want[0].id << ", closest t "
-              << closest.t << " id " << closest.id;
-        }
-        // The long-double reference, where float can decide.
-        const Reference ref = reference(v, ray);
-        if (ref.decidable) {
-          ++decided;
-          ASSERT_EQ(total, ref.crossings.size()) << n << " spheres";
-          for (std::size_t i = 0; i < total; ++i) {
-            const Crossing& c = ref.crossings[i];
-            EXPECT_EQ(want[i].id, c.id) << i;
-            EXPECT_EQ(want_exit[i] != 0, c.exit) << i;
-            EXPECT_NEAR(want[i].t, static_cast<double>(c.t), 1e-4 * (std::fabs(c.t) + 30)) << i;
+  test::for_each_query_scene(
+      rng, kernels, [&](SphereView v, const std::vector<SphereBVH>& trees, std::size_t n) {
+        for (const Ray& ray : rays_for(test::scaled(n >= 3000 ? 60 : 200), rng)) {
+          ++rays_checked;
+          const std::size_t total = scalar::intersect_all(v, ray, {}, {});
+          std::vector<Hit> want(total);
+          std::vector<char> want_exit(total);
+          {
+            auto flags = std::make_unique<bool[]>(total + 1);
+            ASSERT_EQ(scalar::intersect_all(v, ray, want, std::span(flags.get(), total)), total);
+            for (std::size_t i = 0; i < total; ++i)
+              want_exit[i] = flags[i];
           }
-        }
-        // Every kernel, the dispatched query and every tree, whole and capped.
-        auto check = [&](auto&& query, const char* what, const EntryTable* k) {
-          const std::size_t caps[] = {0, 1, 2, total > 0 ? total - 1 : 0, total, total + 3};
-          for (const std::size_t cap : caps) {
-            std::vector<Hit> got(cap + 1, Hit{-1, 12345});
-            auto flags = std::make_unique<bool[]>(cap + 1);
-            const std::size_t n_got =
-                query(std::span(got.data(), cap), std::span(flags.get(), cap));
-            ASSERT_EQ(n_got, total) << what << " " << (k ? test::name_of(k) : "") << " cap " << cap;
-            const std::size_t kept = std::min(cap, total);
-            capped += cap < total;
-            for (std::size_t i = 0; i < kept; ++i) {
-              ASSERT_TRUE(same_bits(got[i], want[i]) && flags[i] == (want_exit[i] != 0))
-                  << what << " " << (k ? test::name_of(k) : "") << ", " << n << " spheres, cap "
-                  << cap << ", crossing " << i << ": t " << got[i].t << " id " << got[i].id
-                  << ", reference t " << want[i].t << " id " << want[i].id;
+          crossings_seen += total;
+          // The first crossing is the closest hit.
+          const Hit closest = scalar::intersect(v, ray);
+          if (total == 0) {
+            EXPECT_FALSE(closest.found());
+          } else {
+            EXPECT_TRUE(same_bits(want[0], closest))
+                << "first crossing t " << want[0].t << " id " << want[0].id << ", closest t "
+                << closest.t << " id " << closest.id;
+          }
+          // The long-double reference, where float can decide.
+          const Reference ref = reference(v, ray);
+          if (ref.decidable) {
+            ++decided;
+            ASSERT_EQ(total, ref.crossings.size()) << n << " spheres";
+            for (std::size_t i = 0; i < total; ++i) {
+              const Crossing& c = ref.crossings[i];
+              EXPECT_EQ(want[i].id, c.id) << i;
+              EXPECT_EQ(want_exit[i] != 0, c.exit) << i;
+              EXPECT_NEAR(want[i].t, static_cast<double>(c.t), 1e-4 * (std::fabs(c.t) + 30)) << i;
             }
-            for (std::size_t i = kept; i <= cap; ++i)
-              ASSERT_TRUE(same_bits(got[i], Hit{-1, 12345})) << what << ": wrote past the list";
           }
-        };
-        check([&](std::span<Hit> o, std::span<bool> e) { return intersect_all(v, ray, o, e); },
-              "dispatched", nullptr);
-        EXPECT_EQ(count_hits(v, ray), total);
-        for (std::size_t k = 0; k < kernels.size(); ++k) {
-          check(
-              [&](std::span<Hit> o, std::span<bool> e) {
-                return kernels[k]->intersect_all(v, ray, o.data(), e.data(), o.size());
-              },
-              "kernel", kernels[k]);
-          check([&](std::span<Hit> o,
-                    std::span<bool> e) { return intersect_all(trees[k], ray, o, e); },
-                "tree", kernels[k]);
-          EXPECT_EQ(count_hits(trees[k], ray), total);
+          // Every kernel, the dispatched query and every tree, whole and capped.
+          auto check = [&](auto&& query, const char* what, const EntryTable* k) {
+            const std::size_t caps[] = {0, 1, 2, total > 0 ? total - 1 : 0, total, total + 3};
+            for (const std::size_t cap : caps) {
+              std::vector<Hit> got(cap + 1, Hit{-1, 12345});
+              auto flags = std::make_unique<bool[]>(cap + 1);
+              const std::size_t n_got =
+                  query(std::span(got.data(), cap), std::span(flags.get(), cap));
+              ASSERT_EQ(n_got, total)
+                  << what << " " << (k ? test::name_of(k) : "") << " cap " << cap;
+              const std::size_t kept = std::min(cap, total);
+              capped += cap < total;
+              for (std::size_t i = 0; i < kept; ++i) {
+                ASSERT_TRUE(same_bits(got[i], want[i]) && flags[i] == (want_exit[i] != 0))
+                    << what << " " << (k ? test::name_of(k) : "") << ", " << n << " spheres, cap "
+                    << cap << ", crossing " << i << ": t " << got[i].t << " id " << got[i].id
+                    << ", reference t " << want[i].t << " id " << want[i].id;
+              }
+              for (std::size_t i = kept; i <= cap; ++i)
+                ASSERT_TRUE(same_bits(got[i], Hit{-1, 12345})) << what << ": wrote past the list";
+            }
+          };
+          check([&](std::span<Hit> o, std::span<bool> e) { return intersect_all(v, ray, o, e); },
+                "dispatched", nullptr);
+          EXPECT_EQ(count_hits(v, ray), total);
+          for (std::size_t k = 0; k < kernels.size(); ++k) {
+            check(
+                [&](std::span<Hit> o, std::span<bool> e) {
+                  return kernels[k]->intersect_all(v, ray, o.data(), e.data(), o.size());
+                },
+                "kernel", kernels[k]);
+            check([&](std::span<Hit> o,
+                      std::span<bool> e) { return intersect_all(trees[k], ray, o, e); },
+                  "tree", kernels[k]);
+            EXPECT_EQ(count_hits(trees[k], ray), total);
+          }
         }
-      }
-    }
-  }
+      });
   std::cout << "[ crossings ] " << rays_checked << " rays, " << crossings_seen
             << " crossings, bit for bit on every kernel and tree; " << decided
             << " rays matched against long double; " << capped << " capped lists\n";

@@ -4,6 +4,7 @@
 #include "sphray/all_hits.hpp"
 #include "sphray/bvh.hpp"
 #include "sphray/isa.hpp"
+#include "sphray/point_queries.hpp"
 #include "sphray/query.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"

@@ -11,6 +11,7 @@
 #include "bvh/bvh_data.hpp"
 #include "bvh/scalar_walk.hpp"
 #include "dispatch/entry_table.hpp"
+#include "point/point_queries_common.hpp"
 #include "sphray/all_hits.hpp"
 #include "sphray/query.hpp"
 
@@ -153,5 +154,9 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              &scalar_bvh_occluded,
                                              &scalar_bvh_intersect_stream,
                                              &scalar_intersect_all,
-                                             &scalar_bvh_intersect_all};
+                                             &scalar_bvh_intersect_all,
+                                             &scalar_nearest,
+                                             &scalar_overlapping,
+                                             &scalar_bvh_nearest,
+                                             &scalar_bvh_overlapping};
 }  // namespace sphray::detail

@@ -11,6 +11,7 @@
 #include "bvh/traverse.hpp"
 #include "dispatch/entry_table.hpp"
 #include "dispatch/query_plan.hpp"
+#include "point/point_queries.hpp"
 #include "simd/isa_namespace.hpp"
 #include "sphray/query.hpp"
 
@@ -63,6 +64,19 @@ struct EntryPoints {
     HitList list(hits, exits, capacity);
     return AllHits<A>::intersect_all(bvh, ray, list);
   }
+
+  using Points = PointQueries<A>;
+  static Hit nearest(SphereView v, Vec3 point, float) { return Points::nearest(v, point); }
+  static std::size_t overlapping(SphereView v, Vec3 centre, float radius, IdCollector& out) {
+    return Points::overlapping(v, centre, radius, out);
+  }
+  static Hit bvh_nearest(const BvhData& bvh, Vec3 point, float max_distance, std::size_t* slot) {
+    return Points::nearest(bvh, point, max_distance, *slot);
+  }
+  static std::size_t bvh_overlapping(const BvhData& bvh, Vec3 centre, float radius,
+                                     IdCollector& out) {
+    return Points::overlapping(bvh, centre, radius, out);
+  }
 };
 
 template <class A>
@@ -78,7 +92,11 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::bvh_occluded,
           &E::bvh_intersect_stream,
           &E::intersect_all,
-          &E::bvh_intersect_all};
+          &E::bvh_intersect_all,
+          &E::nearest,
+          &E::overlapping,
+          &E::bvh_nearest,
+          &E::bvh_overlapping};
 }
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE
