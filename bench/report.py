@@ -735,7 +735,7 @@ def open3d_rows(data):
 
 
 def fmt_ms(seconds):
-    return f"{seconds * 1e3:.3g} ms"
+    return f"{seconds:.3g} s" if seconds >= 1 else f"{seconds * 1e3:.3g} ms"
 
 
 def open3d_section(data, plot):
@@ -764,7 +764,7 @@ def open3d_section(data, plot):
     rows = []
     for n, r in sorted(ours.items()):
         rows.append([f"{n:,}", "sphray (exact)", "–", fmt_rate(r["rays_per_s"]), fmt_ms(r["build_s"]),
-                     "–", "–", "0", "0", "–"])
+                     "–", "–", "–", "–", "–"])
         for o in sorted((o for o in theirs if o["spheres"] == n), key=lambda o: o["triangles_per_sphere"]):
             rows.append([f"{n:,}", f"Open3D, resolution {o['resolution']}",
                          f"{o['triangles_per_sphere']} a sphere ({o['triangles_per_sphere'] * n / 1e6:.3g} M)",
@@ -775,11 +775,15 @@ def open3d_section(data, plot):
             "The accuracy columns are those of the tessellation itself, whatever traces it: every ray",
             "sphray hits is tested exactly (float64 Möller-Trumbore) against its sphere's own triangles;",
             "the mesh lies inside the sphere, so rays near a silhouette miss it, and the others stop",
-            "short or long of the surface by the distance shown, in radii."]
+            "short or long of the surface by the distance shown, in radii (the largest, near 2 r, are rays",
+            "starting between a mesh and its sphere: outside the one, so stopped at its near face, and",
+            "inside the other, so stopped at its far side)."]
     if all(o["open3d_hits"] == 0 for o in theirs):
         out += ["Open3D's own answers could not be used for them: this `cast_rays` reported no hit for any",
                 "ray (last column), a defect of this Open3D build, not of the rays (docs/python.md,",
-                "\"Open3D on Debian 12\"); its rates are for traversals that found nothing."]
+                "\"Open3D on Debian 12\"); its rates are those of traversals that found nothing. A working",
+                "build would stop each ray at its first hit and visit fewer nodes, so it may trace faster",
+                "than measured here, by an amount this build cannot show."]
     out += ["",
             f"![sphray against Open3D, rays per second]({plot})"]
     return "\n".join(out)
@@ -792,7 +796,7 @@ def plot_open3d(data, path):
     scenes = sorted(ours)
     labels = ["sphray (exact)"] + [f"Open3D, {t} triangles/sphere"
                                    for t in sorted({o["triangles_per_sphere"] for o in theirs})]
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = plt.subplots(figsize=(7, 4.4))
     width = 0.8 / len(labels)
     for k, label in enumerate(labels):
         rates = []
@@ -809,7 +813,7 @@ def plot_open3d(data, path):
     ax.set_xticklabels([f"{n:,} spheres" for n in scenes])
     ax.set_ylabel("rays per second (all threads)")
     ax.set_title("Python: sphray.Scene.intersect against Open3D cast_rays")
-    ax.legend()
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=len(labels), fontsize="small")
     ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
