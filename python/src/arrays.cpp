@@ -71,6 +71,7 @@ Vec3Rows::Vec3Rows(const char* what, const py::handle& obj) {
     throw py::value_error(std::string(what) + ": expected shape (M, 3) (or (..., 3)), got " +
                           shape_text(a));
   }
+  shape_ = shape_text(a);
   leading_ = shape_of(a);
   leading_.pop_back();
   py::array flat = flatten_leading(a, true);

@@ -41,11 +41,12 @@ class Vec3Rows {
     const float* p = data_ + static_cast<std::ptrdiff_t>(i) * row_stride_;
     return {p[0], p[col_stride_], p[2 * col_stride_]};
   }
-  /// The array read (the caller's own when no conversion was needed).
-  const py::array& array() const { return array_; }
+  /// The shape the caller gave, as numpy prints it.
+  const std::string& shape() const { return shape_; }
 
  private:
-  py::array array_;
+  py::array array_;  // what data_ points into: the caller's array, or its float32 copy
+  std::string shape_;
   const float* data_ = nullptr;
   std::ptrdiff_t row_stride_ = 0, col_stride_ = 0;  // in floats
   std::size_t rows_ = 0;

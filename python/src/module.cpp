@@ -54,9 +54,10 @@ layout. The `centers` and `radii` attributes are the arrays the scene reads; whi
 scene reads your arrays in place, write to them only between queries and call refit()
 afterwards (the BVH keeps its own copy of the spheres and sees changes only then).)doc";
 
-constexpr const char* kIntersectDoc = R"doc(Closest hit of each ray.
+constexpr const char* kIntersectDoc =
+    R"doc(intersect(origins, directions, tmin=0.0, tmax=inf) -> (t, ids)
 
-intersect(origins, directions, tmin=0.0, tmax=inf) -> (t, ids)
+Closest hit of each ray.
 
 origins, directions: (M, 3) arrays (or (..., 3): the results then have shape (...)).
 Directions need not be unit length: t is measured in units of the direction.
@@ -67,25 +68,26 @@ t[i] == tmax. Equal t on two spheres: the lower id. A ray starting inside a sphe
 far side. A ray with a NaN or infinite component, a zero direction, a NaN bound or
 tmin >= tmax misses.)doc";
 
-constexpr const char* kOccludedDoc = R"doc(Whether each ray hits any sphere in (tmin, tmax).
+constexpr const char* kOccludedDoc = R"doc(occluded(origins, directions, tmin=0.0, tmax=inf) -> hit
 
-occluded(origins, directions, tmin=0.0, tmax=inf) -> hit
+Whether each ray hits any sphere in (tmin, tmax).
 
 The shadow-ray query: the same rays and rules as intersect(), a bool array of shape (M,),
 stopping at the first hit found.)doc";
 
-constexpr const char* kSurfaceDoc = R"doc(Where each ray meets its hit.
+constexpr const char* kSurfaceDoc =
+    R"doc(surface(origins, directions, t, ids) -> (points, normals, front_face)
 
-surface(origins, directions, t, ids) -> (points, normals, front_face)
+Where each ray meets its hit.
 
 t and ids as intersect() returned them. points: float32 (M, 3), on the sphere (re-projected
 from the ray's t); normals: float32 (M, 3), the outward unit normals; front_face: bool (M,),
 True where the ray arrived from outside. For a miss (ids == NO_HIT, or an id of no sphere):
 the point origin + t * direction, a zero normal and front_face False.)doc";
 
-constexpr const char* kRefitDoc = R"doc(Moves the scene's spheres.
+constexpr const char* kRefitDoc = R"doc(refit(centers, radii)
 
-refit(centers, radii)
+Moves the scene's spheres.
 
 New centres and radii for the same spheres (the same N; ids unchanged). With a BVH the tree
 keeps its shape and only its boxes are updated: much cheaper than a new Scene, but tracing
@@ -93,9 +95,9 @@ slows down as spheres drift far from where the tree was built. Waits for queries
 in other threads.)doc";
 
 constexpr const char* kPinholeDoc =
-    R"doc(Camera rays of a pinhole camera, one through each pixel's centre.
+    R"doc(pinhole_rays(eye, target, up, vfov_deg, width, height) -> (origins, directions)
 
-pinhole_rays(eye, target, up, vfov_deg, width, height) -> (origins, directions)
+Camera rays of a pinhole camera, one through each pixel's centre.
 
 eye, target, up: 3-vectors; vfov_deg: the vertical field of view in degrees, in (0, 180).
 Returns two float32 arrays of shape (height, width, 3), row 0 at the top of the image;
@@ -103,10 +105,11 @@ directions are unit vectors, so intersect() returns distances. The camera is the
 (Ray Tracing in One Weekend's). Raises ValueError if eye == target, up is parallel to the
 view direction, a value is not finite, or the size is not positive.)doc";
 
-constexpr const char* kRenderDoc = R"doc(Renders one of the renderer's scenes to an image.
-
-render(scene="rtiow-final", mode="normals", width=None, height=None, spp=1, seed=0,
+constexpr const char* kRenderDoc =
+    R"doc(render(scene="rtiow-final", mode="normals", width=None, height=None, spp=1, seed=0,
        threads=0, accel="auto", max_depth=50) -> uint8 array (height, width, 3)
+
+Renders one of the renderer's scenes to an image.
 
 scene: a preset ("single", "three", "rtiow-final", "random:N") or a JSON scene file.
 mode: "normals", "flat", "depth", "id", "shaded" or "path". width, height: the scene's own
@@ -132,8 +135,11 @@ PYBIND11_MODULE(sphray, m) {
   m.attr("NO_HIT") = py::int_(sphray::kNoHit);
 
   py::class_<Scene>(m, "Scene", kSceneDoc)
-      .def(py::init<const py::handle&, const py::handle&, const std::string&>(), py::arg("centers"),
-           py::arg("radii"), py::arg("accel") = "auto")
+      .def(
+          py::init<const py::handle&, const py::handle&, const std::string&>(), py::arg("centers"),
+          py::arg("radii"), py::arg("accel") = "auto",
+          "__init__(centers, radii, accel=\"auto\")\n\nSpheres from centers (N, 3) and radii (N,): "
+          "see help(sphray.Scene).")
       .def("intersect", &Scene::intersect, py::arg("origins"), py::arg("directions"),
            py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, kIntersectDoc)
       .def("occluded", &Scene::occluded, py::arg("origins"), py::arg("directions"),

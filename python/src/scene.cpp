@@ -8,6 +8,20 @@
 
 namespace sphray::python {
 
+namespace {
+
+// The directions of a batch, checked against its origins' shape.
+Vec3Rows directions_like(const Vec3Rows& origins, const py::handle& directions) {
+  Vec3Rows d("directions", directions);
+  if (d.leading_shape() != origins.leading_shape()) {
+    throw py::value_error("directions: expected the shape of origins " + origins.shape() +
+                          ", got " + d.shape());
+  }
+  return d;
+}
+
+}  // namespace
+
 Accel parse_accel(const std::string& name) {
   if (name == "auto") return Accel::automatic;
   if (name == "bvh") return Accel::bvh;
@@ -26,12 +40,8 @@ Scene::Scene(const py::handle& centers, const py::handle& radii, const std::stri
 
 py::tuple Scene::intersect(const py::handle& origins, const py::handle& directions,
                            const py::handle& tmin, const py::handle& tmax) const {
-  Vec3Rows o("origins", origins);
-  Vec3Rows d("directions", directions);
-  if (d.leading_shape() != o.leading_shape()) {
-    throw py::value_error("directions: expected the shape of origins " + shape_text(o.array()) +
-                          ", got " + shape_text(d.array()));
-  }
+  const Vec3Rows o("origins", origins);
+  const Vec3Rows d = directions_like(o, directions);
   FloatPerRow lo("tmin", tmin, o.leading_shape());
   FloatPerRow hi("tmax", tmax, o.leading_shape());
   auto t = new_array<float>(o.leading_shape());
@@ -64,12 +74,8 @@ py::tuple Scene::intersect(const py::handle& origins, const py::handle& directio
 
 py::array Scene::occluded(const py::handle& origins, const py::handle& directions,
                           const py::handle& tmin, const py::handle& tmax) const {
-  Vec3Rows o("origins", origins);
-  Vec3Rows d("directions", directions);
-  if (d.leading_shape() != o.leading_shape()) {
-    throw py::value_error("directions: expected the shape of origins " + shape_text(o.array()) +
-                          ", got " + shape_text(d.array()));
-  }
+  const Vec3Rows o("origins", origins);
+  const Vec3Rows d = directions_like(o, directions);
   FloatPerRow lo("tmin", tmin, o.leading_shape());
   FloatPerRow hi("tmax", tmax, o.leading_shape());
   auto hit = new_array<bool>(o.leading_shape());
@@ -90,12 +96,8 @@ py::array Scene::occluded(const py::handle& origins, const py::handle& direction
 
 py::tuple Scene::surface(const py::handle& origins, const py::handle& directions,
                          const py::handle& t, const py::handle& ids) const {
-  Vec3Rows o("origins", origins);
-  Vec3Rows d("directions", directions);
-  if (d.leading_shape() != o.leading_shape()) {
-    throw py::value_error("directions: expected the shape of origins " + shape_text(o.array()) +
-                          ", got " + shape_text(d.array()));
-  }
+  const Vec3Rows o("origins", origins);
+  const Vec3Rows d = directions_like(o, directions);
   FloatPerRow hit_t("t", t, o.leading_shape());
   const std::vector<std::uint32_t> hit_ids = ids_per_row("ids", ids, o.leading_shape());
   auto points = new_array<float>(o.leading_shape(), {3});
