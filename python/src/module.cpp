@@ -164,11 +164,13 @@ PYBIND11_MODULE(sphray, m) {
 
   m.def(
       "render",
-      [](const std::string& scene, const std::string& mode, std::optional<int> width,
+      [](const py::object& scene, const std::string& mode, std::optional<int> width,
          std::optional<int> height, int spp, std::uint64_t seed, int threads,
          const std::string& accel, int max_depth) {
+        // A preset name, or a scene file as str or pathlib.Path (os.fspath takes both).
+        const auto name = py::module_::import("os").attr("fspath")(scene).cast<std::string>();
         return sphray::python::render(
-            RenderRequest{scene, mode, width, height, spp, seed, threads, accel, max_depth});
+            RenderRequest{name, mode, width, height, spp, seed, threads, accel, max_depth});
       },
       py::arg("scene") = "rtiow-final", py::arg("mode") = "normals", py::arg("width") = py::none(),
       py::arg("height") = py::none(), py::arg("spp") = 1, py::arg("seed") = 0,

@@ -41,3 +41,13 @@ def test_render_normals_of_the_single_preset():
 def test_render_keeps_the_scene_aspect_for_one_side():
     assert sphray.render("single", width=80).shape == (45, 80, 3)   # the scene's 16:9
     assert sphray.render("single", height=9).shape == (9, 16, 3)
+
+
+def test_render_takes_a_scene_file_as_path(tmp_path):
+    scene = tmp_path / "one.json"
+    scene.write_text('{"camera": {"lookfrom": [0, 0, 0], "lookat": [0, 0, -1], "vfov": 90},'
+                     ' "spheres": [{"center": [0, 0, -1], "radius": 0.5, "color": [1, 0, 0]}]}')
+    from_path = sphray.render(scene, mode="flat", width=32, height=18)
+    assert (from_path == sphray.render(str(scene), mode="flat", width=32, height=18)).all()
+    # flat mode: the sphere red (255, 0, 0) in the middle, sky at the corners
+    assert tuple(from_path[9, 16]) == (255, 0, 0) and tuple(from_path[0, 0]) != (255, 0, 0)
