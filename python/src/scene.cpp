@@ -5,6 +5,7 @@
 
 #include "arrays.hpp"
 #include "ray_batches.hpp"
+#include "sphray/render/renderer.hpp"
 
 namespace sphray::python {
 
@@ -22,16 +23,11 @@ Vec3Rows directions_like(const Vec3Rows& origins, const py::handle& directions) 
 
 }  // namespace
 
-Accel parse_accel(const std::string& name) {
-  if (name == "auto") return Accel::automatic;
-  if (name == "bvh") return Accel::bvh;
-  if (name == "brute") return Accel::brute_force;
-  throw py::value_error("accel: expected 'auto', 'bvh' or 'brute', got '" + name + "'");
-}
-
 Scene::Scene(const py::handle& centers, const py::handle& radii, const std::string& accel)
     : spheres_(centers, radii) {
-  const Accel how = parse_accel(accel);
+  using render::Accel;
+  const std::optional<Accel> how = render::parse_accel(accel);
+  if (!how) throw py::value_error("accel: expected 'auto', 'bvh' or 'brute', got '" + accel + "'");
   if (how == Accel::bvh || (how == Accel::automatic && spheres_.size() >= kBvhFromSpheres)) {
     py::gil_scoped_release release;
     bvh_.emplace(spheres_.view());
@@ -52,17 +48,12 @@ py::tuple Scene::intersect(const py::handle& origins, const py::handle& directio
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
-    const SphereView view = spheres_.view();
     for_each_chunk(rays.size(), [&](std::size_t begin, std::size_t end) {
       std::vector<Ray> chunk(end - begin);
       std::vector<Hit> hits(end - begin);
       for (std::size_t i = begin; i < end; ++i)
         chunk[i - begin] = rays[i];
-      if (bvh_) {
-        sphray::intersect(*bvh_, chunk, hits);
-      } else {
-        sphray::intersect(view, chunk, hits);
-      }
+      trace(chunk, hits);
       for (std::size_t i = begin; i < end; ++i) {
         t_out[i] = hits[i - begin].t;
         id_out[i] = hits[i - begin].id;
@@ -122,6 +113,14 @@ py::tuple Scene::surface(const py::handle& origins, const py::handle& directions
     });
   }
   return py::make_tuple(points, normals, front);
+}
+
+void Scene::trace(std::span<const Ray> rays, std::span<Hit> hits) const {
+  if (bvh_) {
+    sphray::intersect(*bvh_, rays, hits);
+  } else {
+    sphray::intersect(spheres_.view(), rays, hits);
+  }
 }
 
 void Scene::refit(const py::handle& centers, const py::handle& radii) {

@@ -8,6 +8,7 @@
 
 #include <optional>
 #include <shared_mutex>
+#include <span>
 #include <string>
 
 #include "sphere_arrays.hpp"
@@ -17,16 +18,13 @@ namespace sphray::python {
 
 namespace py = pybind11;
 
-/// How a Scene answers queries: a SphereBVH from kBvhFromSpheres spheres on, or always, or
-/// brute force over every sphere.
-enum class Accel { automatic, bvh, brute_force };
-/// The renderer's measured crossover (render/src/scene_queries.hpp), for the same reason.
+/// accel="auto" builds a SphereBVH from this many spheres on: the renderer's measured
+/// crossover (render/src/scene_queries.hpp), for the same reason.
 inline constexpr std::size_t kBvhFromSpheres = 128;
-
-Accel parse_accel(const std::string& name);
 
 class Scene {
  public:
+  /// accel: "auto", "bvh" or "brute" (the renderer's names, sphray::render::parse_accel).
   Scene(const py::handle& centers, const py::handle& radii, const std::string& accel);
 
   /// (t, ids) of the closest hits.
@@ -51,6 +49,9 @@ class Scene {
   mutable std::shared_mutex mutex_;
   SphereArrays spheres_;
   std::optional<SphereBVH> bvh_;
+
+  // hits[i] for rays[i], through the BVH or brute force. Needs the reader lock.
+  void trace(std::span<const Ray> rays, std::span<Hit> hits) const;
 };
 
 }  // namespace sphray::python
