@@ -1,0 +1,88 @@
+"""Fast, exact ray/sphere intersection on numpy arrays (type stubs for the extension)."""
+
+from os import PathLike
+from typing import Literal, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+NO_HIT: int
+"""The id of a miss: 2**32 - 1."""
+
+_ArrayLike = npt.ArrayLike
+_Bound = Union[float, npt.ArrayLike]
+
+class Scene:
+    """Spheres to trace rays against: Scene(centers (N, 3), radii (N,), accel="auto")."""
+
+    def __init__(
+        self,
+        centers: _ArrayLike,
+        radii: _ArrayLike,
+        accel: Literal["auto", "bvh", "brute"] = "auto",
+    ) -> None: ...
+    def intersect(
+        self,
+        origins: _ArrayLike,
+        directions: _ArrayLike,
+        tmin: _Bound = 0.0,
+        tmax: _Bound = float("inf"),
+    ) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.uint32]]:
+        """Closest hit of each ray: (t, ids); a miss has ids == NO_HIT and t == tmax."""
+    def occluded(
+        self,
+        origins: _ArrayLike,
+        directions: _ArrayLike,
+        tmin: _Bound = 0.0,
+        tmax: _Bound = float("inf"),
+    ) -> npt.NDArray[np.bool_]:
+        """Whether each ray hits any sphere in (tmin, tmax)."""
+    def surface(
+        self,
+        origins: _ArrayLike,
+        directions: _ArrayLike,
+        t: _ArrayLike,
+        ids: _ArrayLike,
+    ) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32], npt.NDArray[np.bool_]]:
+        """(points, outward unit normals, front_face) where each ray meets its hit."""
+    def refit(self, centers: _ArrayLike, radii: _ArrayLike) -> None:
+        """New centres and radii for the same spheres (same N)."""
+    def __len__(self) -> int: ...
+    @property
+    def uses_bvh(self) -> bool: ...
+    @property
+    def centers(self) -> npt.NDArray[np.float32]:
+        """The (N, 3) array the scene reads: yours if it was not copied."""
+    @property
+    def radii(self) -> npt.NDArray[np.float32]:
+        """The (N,) array the scene reads: yours if it was not copied."""
+
+def pinhole_rays(
+    eye: _ArrayLike,
+    target: _ArrayLike,
+    up: _ArrayLike,
+    vfov_deg: float,
+    width: int,
+    height: int,
+) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]:
+    """(origins, unit directions), each (height, width, 3) float32, row 0 at the top."""
+
+def render(
+    scene: Union[str, "PathLike[str]"] = "rtiow-final",
+    mode: Literal["normals", "flat", "depth", "id", "shaded", "path"] = "normals",
+    width: Optional[int] = None,
+    height: Optional[int] = None,
+    spp: int = 1,
+    seed: int = 0,
+    threads: int = 0,
+    accel: Literal["auto", "bvh", "brute"] = "auto",
+    max_depth: int = 50,
+) -> npt.NDArray[np.uint8]:
+    """A preset or JSON scene rendered by the renderer: uint8 (height, width, 3)."""
+
+def active_isa() -> str:
+    """The instruction set in use: 'scalar', 'sse4.2', 'avx2', 'avx512' or 'neon'."""
+
+def supported_isas() -> list[str]:
+    """The instruction sets this build has and this machine runs, best first."""

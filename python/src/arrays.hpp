@@ -1,0 +1,89 @@
+// Reading numpy arrays for the module: shape and dtype checks with numpy's exceptions, and
+// float32 data read in place wherever the layout allows it.
+//
+// Every reader keeps the array it reads from (the caller's, or the one float32 conversion
+// made of it) alive for as long as it lives, and exposes plain pointers and element strides
+// that may be used with the GIL released.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sphray/sphray.hpp"
+
+namespace sphray::python {
+
+namespace py = pybind11;
+
+/// "(4, 3)": a shape as numpy prints it.
+std::string shape_text(const py::array& array);
+
+/// obj as a numpy array of real numbers (float, int or uint dtype). Throws TypeError for any
+/// other dtype (bool, complex, object, strings), naming what and the dtype.
+py::array as_real_array(const char* what, const py::handle& obj);
+
+/// Rows of three floats, (..., 3): read in place when the array is float32 with strides that
+/// are whole floats, otherwise converted once to a C-contiguous float32 copy.
+class Vec3Rows {
+ public:
+  /// Throws ValueError unless obj's shape is (..., 3) with at least one leading dimension.
+  Vec3Rows(const char* what, const py::handle& obj);
+
+  std::size_t size() const { return rows_; }
+  /// The shape without its last axis: the shape of one value per row.
+  const std::vector<py::ssize_t>& leading_shape() const { return leading_; }
+  Vec3 operator[](std::size_t i) const {
+    const float* p = data_ + static_cast<std::ptrdiff_t>(i) * row_stride_;
+    return {p[0], p[col_stride_], p[2 * col_stride_]};
+  }
+  /// The shape the caller gave, as numpy prints it.
+  const std::string& shape() const { return shape_; }
+
+ private:
+  py::array array_;  // what data_ points into: the caller's array, or its float32 copy
+  std::string shape_;
+  const float* data_ = nullptr;
+  std::ptrdiff_t row_stride_ = 0, col_stride_ = 0;  // in floats
+  std::size_t rows_ = 0;
+  std::vector<py::ssize_t> leading_;
+};
+
+/// One float per row, for a batch of the given leading shape: a Python scalar (the same for
+/// every row) or an array of exactly that shape. Read in place when float32 and strided in
+/// whole floats.
+class FloatPerRow {
+ public:
+  FloatPerRow(const char* what, const py::handle& obj, const std::vector<py::ssize_t>& shape);
+
+  float operator[](std::size_t i) const {
+    return data_ == nullptr ? scalar_ : data_[static_cast<std::ptrdiff_t>(i) * stride_];
+  }
+
+ private:
+  py::array array_;
+  const float* data_ = nullptr;  // null: every row takes scalar_
+  std::ptrdiff_t stride_ = 0;
+  float scalar_ = 0.0f;
+};
+
+/// One sphere id per row, an array of exactly the given leading shape with an integer dtype;
+/// values outside [0, 2^32 - 1] raise ValueError (an id of no sphere is a miss, as the kernel
+/// says, sphray.NO_HIT included).
+std::vector<std::uint32_t> ids_per_row(const char* what, const py::handle& obj,
+                                       const std::vector<py::ssize_t>& shape);
+
+/// A new C-contiguous array of dtype T with shape leading + trailing.
+template <typename T>
+py::array_t<T> new_array(const std::vector<py::ssize_t>& leading,
+                         std::initializer_list<py::ssize_t> trailing = {}) {
+  std::vector<py::ssize_t> shape = leading;
+  shape.insert(shape.end(), trailing);
+  return py::array_t<T>(shape);
+}
+
+}  // namespace sphray::python

@@ -1,0 +1,185 @@
+// The sphray Python module: the bindings and their docstrings. The work is in scene.cpp
+// (queries), sphere_arrays.cpp and arrays.cpp (reading numpy), camera.cpp (the renderer).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "camera.hpp"
+#include "scene.hpp"
+#include "sphray/sphray.hpp"
+
+namespace py = pybind11;
+using sphray::python::RenderRequest;
+using sphray::python::Scene;
+
+namespace {
+
+constexpr const char* kModuleDoc = R"doc(Fast, exact ray/sphere intersection on numpy arrays.
+
+    >>> import numpy as np, sphray
+    >>> scene = sphray.Scene(centers, radii)            # (N, 3) and (N,)
+    >>> t, ids = scene.intersect(origins, directions)   # (M, 3) each -> (M,), (M,)
+    >>> hit = scene.occluded(origins, directions)       # (M,) bool
+    >>> points, normals, front = scene.surface(origins, directions, t, ids)
+
+Results are exact to the kernel's contract (the C++ library's docs/kernel.md): a ray hits a
+sphere at t when tmin < t < tmax, the closest hit wins, equal t goes to the lower id, a miss
+has id NO_HIT and t = tmax, and NaN or infinite rays and spheres never hit. Queries release
+the GIL and spread large batches over all cores.
+
+The instruction set is chosen once per process from the CPU; the environment variable
+SPHRAY_ISA (scalar, sse4.2, avx2, avx512, neon), set before the first query, forces one.
+Every instruction set returns the same bits.)doc";
+
+constexpr const char* kSceneDoc = R"doc(Spheres to trace rays against.
+
+Scene(centers, radii, accel="auto")
+
+centers: (N, 3) array of sphere centres; radii: (N,) array. Any real dtype; the kernel
+computes in float32. Sphere i has id i. A sphere with radius <= 0 or a NaN or infinite
+value is never hit.
+
+accel: "auto" builds a bounding volume hierarchy (BVH) from 128 spheres on and traces
+small scenes by brute force; "bvh" and "brute" force one or the other. Both return the
+same results, bit for bit.
+
+No copy is made of float32 arrays the kernel can read as they are: radii contiguous,
+centers with contiguous columns (Fortran order, e.g. np.asfortranarray(c, np.float32)
+or the transpose of a (3, N) array). A C-ordered (N, 3) array is copied once into that
+layout. The `centers` and `radii` attributes are the arrays the scene reads; while a
+scene reads your arrays in place, write to them only between queries and call refit()
+afterwards (the BVH keeps its own copy of the spheres and sees changes only then).)doc";
+
+constexpr const char* kIntersectDoc =
+    R"doc(intersect(origins, directions, tmin=0.0, tmax=inf) -> (t, ids)
+
+Closest hit of each ray.
+
+origins, directions: (M, 3) arrays (or (..., 3): the results then have shape (...)).
+Directions need not be unit length: t is measured in units of the direction.
+tmin, tmax: scalars or arrays of shape (M,); a hit needs tmin < t < tmax.
+
+Returns t, float32 (M,), and ids, uint32 (M,): on a miss ids[i] == NO_HIT and
+t[i] == tmax. Equal t on two spheres: the lower id. A ray starting inside a sphere hits its
+far side. A ray with a NaN or infinite component, a zero direction, a NaN bound or
+tmin >= tmax misses.)doc";
+
+constexpr const char* kOccludedDoc = R"doc(occluded(origins, directions, tmin=0.0, tmax=inf) -> hit
+
+Whether each ray hits any sphere in (tmin, tmax).
+
+The shadow-ray query: the same rays and rules as intersect(), a bool array of shape (M,),
+stopping at the first hit found.)doc";
+
+constexpr const char* kSurfaceDoc =
+    R"doc(surface(origins, directions, t, ids) -> (points, normals, front_face)
+
+Where each ray meets its hit.
+
+t and ids as intersect() returned them. points: float32 (M, 3), on the sphere (re-projected
+from the ray's t); normals: float32 (M, 3), the outward unit normals; front_face: bool (M,),
+True where the ray arrived from outside. For a miss (ids == NO_HIT, or an id of no sphere):
+the point origin + t * direction, a zero normal and front_face False.)doc";
+
+constexpr const char* kRefitDoc = R"doc(refit(centers, radii)
+
+Moves the scene's spheres.
+
+New centres and radii for the same spheres (the same N; ids unchanged). With a BVH the tree
+keeps its shape and only its boxes are updated: much cheaper than a new Scene, but tracing
+slows down as spheres drift far from where the tree was built. Waits for queries in flight
+in other threads.)doc";
+
+constexpr const char* kPinholeDoc =
+    R"doc(pinhole_rays(eye, target, up, vfov_deg, width, height) -> (origins, directions)
+
+Camera rays of a pinhole camera, one through each pixel's centre.
+
+eye, target, up: 3-vectors; vfov_deg: the vertical field of view in degrees, in (0, 180).
+Returns two float32 arrays of shape (height, width, 3), row 0 at the top of the image;
+directions are unit vectors, so intersect() returns distances. The camera is the renderer's
+(Ray Tracing in One Weekend's). Raises ValueError if eye == target, up is parallel to the
+view direction, a value is not finite, or the size is not positive.)doc";
+
+constexpr const char* kRenderDoc =
+    R"doc(render(scene="rtiow-final", mode="normals", width=None, height=None, spp=1, seed=0,
+       threads=0, accel="auto", max_depth=50) -> uint8 array (height, width, 3)
+
+Renders one of the renderer's scenes to an image.
+
+scene: a preset ("single", "three", "rtiow-final", "random:N") or a JSON scene file.
+mode: "normals", "flat", "depth", "id", "shaded" or "path". width, height: the scene's own
+size when neither is given, its aspect when one is. spp: samples per pixel; threads: 0 for
+all cores. The same image as `sphray render` with the same options. Raises ValueError for
+an unknown scene or mode or a size out of range.)doc";
+
+std::vector<std::string> supported_isa_names() {
+  std::vector<std::string> names;
+  for (sphray::Isa isa : sphray::supported_isas())
+    names.emplace_back(sphray::isa_name(isa));
+  return names;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(sphray, m) {
+  // The docstrings open with the Python signature; pybind11's own would name C++ handle types.
+  py::options options;
+  options.disable_function_signatures();
+  m.doc() = kModuleDoc;
+  m.attr("__version__") = sphray::kVersion;
+  m.attr("NO_HIT") = py::int_(sphray::kNoHit);
+
+  py::class_<Scene>(m, "Scene", kSceneDoc)
+      .def(
+          py::init<const py::handle&, const py::handle&, const std::string&>(), py::arg("centers"),
+          py::arg("radii"), py::arg("accel") = "auto",
+          "__init__(centers, radii, accel=\"auto\")\n\nSpheres from centers (N, 3) and radii (N,): "
+          "see help(sphray.Scene).")
+      .def("intersect", &Scene::intersect, py::arg("origins"), py::arg("directions"),
+           py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, kIntersectDoc)
+      .def("occluded", &Scene::occluded, py::arg("origins"), py::arg("directions"),
+           py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, kOccludedDoc)
+      .def("surface", &Scene::surface, py::arg("origins"), py::arg("directions"), py::arg("t"),
+           py::arg("ids"), kSurfaceDoc)
+      .def("refit", &Scene::refit, py::arg("centers"), py::arg("radii"), kRefitDoc)
+      .def("__len__", &Scene::size, "len(scene): the number of spheres.")
+      .def_property_readonly("uses_bvh", &Scene::uses_bvh,
+                             "Whether a BVH answers the queries (else brute force).")
+      .def_property_readonly("centers", &Scene::centers,
+                             "The (N, 3) float32 array the scene reads: yours if not copied.")
+      .def_property_readonly("radii", &Scene::radii,
+                             "The (N,) float32 array the scene reads: yours if not copied.")
+      .def("__repr__", [](const Scene& s) {
+        return "<sphray.Scene: " + std::to_string(s.size()) + " spheres, " +
+               (s.uses_bvh() ? "BVH" : "brute force") + ">";
+      });
+
+  m.def("pinhole_rays", &sphray::python::pinhole_rays, py::arg("eye"), py::arg("target"),
+        py::arg("up"), py::arg("vfov_deg"), py::arg("width"), py::arg("height"), kPinholeDoc);
+
+  m.def(
+      "render",
+      [](const py::object& scene, const std::string& mode, std::optional<int> width,
+         std::optional<int> height, int spp, std::uint64_t seed, int threads,
+         const std::string& accel, int max_depth) {
+        // A preset name, or a scene file as str or pathlib.Path (os.fspath takes both).
+        const auto name = py::module_::import("os").attr("fspath")(scene).cast<std::string>();
+        return sphray::python::render(
+            RenderRequest{name, mode, width, height, spp, seed, threads, accel, max_depth});
+      },
+      py::arg("scene") = "rtiow-final", py::arg("mode") = "normals", py::arg("width") = py::none(),
+      py::arg("height") = py::none(), py::arg("spp") = 1, py::arg("seed") = 0,
+      py::arg("threads") = 0, py::arg("accel") = "auto", py::arg("max_depth") = 50, kRenderDoc);
+
+  m.def(
+      "active_isa", [] { return std::string(sphray::isa_name(sphray::active_isa())); },
+      "The instruction set the queries use: 'scalar', 'sse4.2', 'avx2', 'avx512' or 'neon'.");
+  m.def("supported_isas", &supported_isa_names,
+        "The instruction sets this build has and this machine runs, best first (the values "
+        "SPHRAY_ISA may take here).");
+}

@@ -1,0 +1,53 @@
+// Tracing a batch of rays from numpy: the rays assembled chunk by chunk from the caller's
+// arrays (never all at once), the chunks spread over oneTBB's workers when the batch is large
+// enough to pay for it. Runs without the GIL: it touches no Python object.
+#pragma once
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cstddef>
+
+#include "arrays.hpp"
+#include "sphray/sphray.hpp"
+
+namespace sphray::python {
+
+/// Rays per chunk: small enough that a chunk's rays and hits stay in L1/L2, large enough that
+/// the per-chunk overhead is noise.
+inline constexpr std::size_t kChunkRays = 1024;
+/// Below this many rays a batch runs on the calling thread: waking the workers would cost more
+/// than the trace.
+inline constexpr std::size_t kParallelFromRays = 4 * kChunkRays;
+
+/// Calls chunk(begin, end) over [0, count) in pieces of at most kChunkRays, in parallel for
+/// large counts. chunk must be safe to call from several threads at once on disjoint ranges.
+template <typename Chunk>
+void for_each_chunk(std::size_t count, const Chunk& chunk) {
+  if (count < kParallelFromRays) {
+    for (std::size_t begin = 0; begin < count; begin += kChunkRays) {
+      chunk(begin, std::min(count, begin + kChunkRays));
+    }
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kChunkRays),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t begin = r.begin(); begin < r.end(); begin += kChunkRays) {
+                        chunk(begin, std::min(r.end(), begin + kChunkRays));
+                      }
+                    });
+}
+
+/// The rays of a batch as the caller gave them: origins and directions (..., 3), and tmin
+/// and tmax as scalars or one per ray.
+struct RayBatch {
+  const Vec3Rows& origins;
+  const Vec3Rows& directions;
+  const FloatPerRow& tmin;
+  const FloatPerRow& tmax;
+
+  std::size_t size() const { return origins.size(); }
+  Ray operator[](std::size_t i) const { return {origins[i], directions[i], tmin[i], tmax[i]}; }
+};
+
+}  // namespace sphray::python

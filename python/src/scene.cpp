@@ -1,0 +1,143 @@
+#include "scene.hpp"
+
+#include <mutex>
+#include <vector>
+
+#include "arrays.hpp"
+#include "ray_batches.hpp"
+#include "sphray/render/renderer.hpp"
+
+namespace sphray::python {
+
+namespace {
+
+// The directions of a batch, checked against its origins' shape.
+Vec3Rows directions_like(const Vec3Rows& origins, const py::handle& directions) {
+  Vec3Rows d("directions", directions);
+  if (d.leading_shape() != origins.leading_shape()) {
+    throw py::value_error("directions: expected the shape of origins " + origins.shape() +
+                          ", got " + d.shape());
+  }
+  return d;
+}
+
+}  // namespace
+
+Scene::Scene(const py::handle& centers, const py::handle& radii, const std::string& accel)
+    : spheres_(centers, radii) {
+  using render::Accel;
+  const std::optional<Accel> how = render::parse_accel(accel);
+  if (!how) throw py::value_error("accel: expected 'auto', 'bvh' or 'brute', got '" + accel + "'");
+  if (how == Accel::bvh || (how == Accel::automatic && spheres_.size() >= kBvhFromSpheres)) {
+    py::gil_scoped_release release;
+    bvh_.emplace(spheres_.view());
+  }
+}
+
+py::tuple Scene::intersect(const py::handle& origins, const py::handle& directions,
+                           const py::handle& tmin, const py::handle& tmax) const {
+  const Vec3Rows o("origins", origins);
+  const Vec3Rows d = directions_like(o, directions);
+  FloatPerRow lo("tmin", tmin, o.leading_shape());
+  FloatPerRow hi("tmax", tmax, o.leading_shape());
+  auto t = new_array<float>(o.leading_shape());
+  auto ids = new_array<std::uint32_t>(o.leading_shape());
+  float* t_out = t.mutable_data();
+  std::uint32_t* id_out = ids.mutable_data();
+  const RayBatch rays{o, d, lo, hi};
+  {
+    py::gil_scoped_release release;
+    std::shared_lock lock(mutex_);
+    for_each_chunk(rays.size(), [&](std::size_t begin, std::size_t end) {
+      std::vector<Ray> chunk(end - begin);
+      std::vector<Hit> hits(end - begin);
+      for (std::size_t i = begin; i < end; ++i)
+        chunk[i - begin] = rays[i];
+      trace(chunk, hits);
+      for (std::size_t i = begin; i < end; ++i) {
+        t_out[i] = hits[i - begin].t;
+        id_out[i] = hits[i - begin].id;
+      }
+    });
+  }
+  return py::make_tuple(t, ids);
+}
+
+py::array Scene::occluded(const py::handle& origins, const py::handle& directions,
+                          const py::handle& tmin, const py::handle& tmax) const {
+  const Vec3Rows o("origins", origins);
+  const Vec3Rows d = directions_like(o, directions);
+  FloatPerRow lo("tmin", tmin, o.leading_shape());
+  FloatPerRow hi("tmax", tmax, o.leading_shape());
+  auto hit = new_array<bool>(o.leading_shape());
+  bool* out = hit.mutable_data();
+  const RayBatch rays{o, d, lo, hi};
+  {
+    py::gil_scoped_release release;
+    std::shared_lock lock(mutex_);
+    const SphereView view = spheres_.view();
+    for_each_chunk(rays.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) {
+        out[i] = bvh_ ? sphray::occluded(*bvh_, rays[i]) : sphray::occluded(view, rays[i]);
+      }
+    });
+  }
+  return hit;
+}
+
+py::tuple Scene::surface(const py::handle& origins, const py::handle& directions,
+                         const py::handle& t, const py::handle& ids) const {
+  const Vec3Rows o("origins", origins);
+  const Vec3Rows d = directions_like(o, directions);
+  FloatPerRow hit_t("t", t, o.leading_shape());
+  const std::vector<std::uint32_t> hit_ids = ids_per_row("ids", ids, o.leading_shape());
+  auto points = new_array<float>(o.leading_shape(), {3});
+  auto normals = new_array<float>(o.leading_shape(), {3});
+  auto front = new_array<bool>(o.leading_shape());
+  float* p_out = points.mutable_data();
+  float* n_out = normals.mutable_data();
+  bool* f_out = front.mutable_data();
+  {
+    py::gil_scoped_release release;
+    std::shared_lock lock(mutex_);
+    const SphereView view = spheres_.view();
+    for_each_chunk(o.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const Surface s = sphray::surface(view, Ray{o[i], d[i]}, Hit{hit_t[i], hit_ids[i]});
+        for (int k = 0; k < 3; ++k) {
+          p_out[3 * i + k] = s.point[k];
+          n_out[3 * i + k] = s.normal[k];
+        }
+        f_out[i] = s.front_face;
+      }
+    });
+  }
+  return py::make_tuple(points, normals, front);
+}
+
+void Scene::trace(std::span<const Ray> rays, std::span<Hit> hits) const {
+  if (bvh_) {
+    sphray::intersect(*bvh_, rays, hits);
+  } else {
+    sphray::intersect(spheres_.view(), rays, hits);
+  }
+}
+
+void Scene::refit(const py::handle& centers, const py::handle& radii) {
+  SphereArrays next(centers, radii);
+  if (next.size() != spheres_.size()) {
+    throw py::value_error("refit: expected the scene's " + std::to_string(spheres_.size()) +
+                          " spheres, got centers " + shape_text(next.centers()));
+  }
+  std::unique_lock lock(mutex_, std::defer_lock);
+  {
+    // Queries in flight hold the lock without the GIL and never ask for the GIL before they
+    // let it go, so waiting here without the GIL cannot deadlock.
+    py::gil_scoped_release release;
+    lock.lock();
+    if (bvh_) bvh_->refit(next.view());
+  }
+  spheres_ = std::move(next);  // the old arrays are released with the GIL held
+}
+
+}  // namespace sphray::python

@@ -1,0 +1,57 @@
+// sphray.Scene: spheres from numpy and the queries over them, numpy in and numpy out.
+//
+// Queries release the GIL and may run from any number of Python threads at once; refit()
+// waits for the queries in flight and holds the next ones back while it swaps the spheres.
+#pragma once
+
+#include <pybind11/numpy.h>
+
+#include <optional>
+#include <shared_mutex>
+#include <span>
+#include <string>
+
+#include "sphere_arrays.hpp"
+#include "sphray/sphray.hpp"
+
+namespace sphray::python {
+
+namespace py = pybind11;
+
+/// accel="auto" builds a SphereBVH from this many spheres on: the renderer's measured
+/// crossover (render/src/scene_queries.hpp), for the same reason.
+inline constexpr std::size_t kBvhFromSpheres = 128;
+
+class Scene {
+ public:
+  /// accel: "auto", "bvh" or "brute" (the renderer's names, sphray::render::parse_accel).
+  Scene(const py::handle& centers, const py::handle& radii, const std::string& accel);
+
+  /// (t, ids) of the closest hits.
+  py::tuple intersect(const py::handle& origins, const py::handle& directions,
+                      const py::handle& tmin, const py::handle& tmax) const;
+  /// Whether each ray hits any sphere in (tmin, tmax).
+  py::array occluded(const py::handle& origins, const py::handle& directions,
+                     const py::handle& tmin, const py::handle& tmax) const;
+  /// (points, normals, front_face) where each ray meets its hit.
+  py::tuple surface(const py::handle& origins, const py::handle& directions, const py::handle& t,
+                    const py::handle& ids) const;
+  /// New centres and radii for the same spheres (same count).
+  void refit(const py::handle& centers, const py::handle& radii);
+
+  std::size_t size() const { return spheres_.size(); }
+  bool uses_bvh() const { return bvh_.has_value(); }
+  const py::array& centers() const { return spheres_.centers(); }
+  const py::array& radii() const { return spheres_.radii(); }
+
+ private:
+  // Shared by queries, exclusive for refit. Never waited on while holding the GIL.
+  mutable std::shared_mutex mutex_;
+  SphereArrays spheres_;
+  std::optional<SphereBVH> bvh_;
+
+  // hits[i] for rays[i], through the BVH or brute force. Needs the reader lock.
+  void trace(std::span<const Ray> rays, std::span<Hit> hits) const;
+};
+
+}  // namespace sphray::python

@@ -1,0 +1,46 @@
+// The spheres a Scene reads: centres and radii from numpy, read in place when their layout is
+// already the kernel's structure of arrays, copied once into it otherwise.
+//
+// The kernel reads each coordinate as its own contiguous column (SphereView). A float32 (N, 3)
+// array whose columns are contiguous (Fortran order, or the transpose of a C-ordered (3, N)
+// array) is that already and is read in place; a C-ordered (N, 3) array interleaves x, y, z
+// and is copied once into a Fortran-ordered float32 array (docs/decisions.md, "Python module",
+// has the measurement behind this choice). Radii are read in place when float32 and
+// contiguous.
+#pragma once
+
+#include <pybind11/numpy.h>
+
+#include <cstddef>
+
+#include "sphray/sphray.hpp"
+
+namespace sphray::python {
+
+namespace py = pybind11;
+
+class SphereArrays {
+ public:
+  SphereArrays() = default;
+  /// Throws ValueError for shapes other than (N, 3) and (N,) with the same N, TypeError for
+  /// dtypes that are not real numbers. Needs the GIL.
+  SphereArrays(const py::handle& centers, const py::handle& radii);
+
+  /// The kernel's view of the arrays; valid while this object (or a copy of it) lives.
+  SphereView view() const { return {cx_, cy_, cz_, r_, count_}; }
+  std::size_t size() const { return count_; }
+
+  /// The (N, 3) and (N,) arrays the kernel reads: the caller's own when read in place.
+  const py::array& centers() const { return centers_; }
+  const py::array& radii() const { return radii_; }
+
+ private:
+  py::array centers_, radii_;
+  const float* cx_ = nullptr;
+  const float* cy_ = nullptr;
+  const float* cz_ = nullptr;
+  const float* r_ = nullptr;
+  std::size_t count_ = 0;
+};
+
+}  // namespace sphray::python
