@@ -46,6 +46,36 @@ class Scene:
         ids: _ArrayLike,
     ) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32], npt.NDArray[np.bool_]]:
         """(points, outward unit normals, front_face) where each ray meets its hit."""
+    def intersect_all(
+        self,
+        origins: _ArrayLike,
+        directions: _ArrayLike,
+        max_hits: int = 16,
+        tmin: _Bound = 0.0,
+        tmax: _Bound = float("inf"),
+    ) -> Tuple[
+        npt.NDArray[np.float32],
+        npt.NDArray[np.uint32],
+        npt.NDArray[np.bool_],
+        npt.NDArray[np.uint64],
+    ]:
+        """(t, ids, exits, counts): every crossing of each ray, the first max_hits sorted."""
+    def count_hits(
+        self,
+        origins: _ArrayLike,
+        directions: _ArrayLike,
+        tmin: _Bound = 0.0,
+        tmax: _Bound = float("inf"),
+    ) -> npt.NDArray[np.uint64]:
+        """The number of crossings of each ray in (tmin, tmax)."""
+    def nearest(
+        self, points: _ArrayLike, max_distance: float = float("inf")
+    ) -> Tuple[npt.NDArray[np.uint32], npt.NDArray[np.float32], npt.NDArray[np.float32]]:
+        """(ids, signed distances, closest surface points) of the sphere nearest each point."""
+    def inside(self, points: _ArrayLike) -> npt.NDArray[np.bool_]:
+        """Whether each point lies inside any sphere."""
+    def overlapping(self, centre: _ArrayLike, radius: float) -> npt.NDArray[np.uint32]:
+        """The ids of the spheres overlapping a ball, ascending."""
     def refit(self, centers: _ArrayLike, radii: _ArrayLike) -> None:
         """New centres and radii for the same spheres (same N)."""
     def __len__(self) -> int: ...

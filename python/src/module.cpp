@@ -85,6 +85,45 @@ from the ray's t); normals: float32 (M, 3), the outward unit normals; front_face
 True where the ray arrived from outside. For a miss (ids == NO_HIT, or an id of no sphere):
 the point origin + t * direction, a zero normal and front_face False.)doc";
 
+constexpr const char* kIntersectAllDoc =
+    R"doc(intersect_all(origins, directions, max_hits=16, tmin=0.0, tmax=inf)
+
+Every crossing of each ray with the spheres' surfaces, not only the first.
+
+Returns (t, ids, exits, counts): t float32, ids uint32 and exits bool of shape (..., max_hits),
+the first max_hits crossings of each ray in (tmin, tmax), sorted by t, then id, then entry
+before exit (a sphere's near root enters it, its far root leaves it); counts uint64 of shape
+(...), how many crossings each ray has in all (more than max_hits when they did not fit).
+Unused slots hold t = nan, id = NO_HIT, exit = False. The first crossing is intersect()'s
+closest hit. Contract: docs/queries.md.)doc";
+
+constexpr const char* kCountHitsDoc = R"doc(count_hits(origins, directions, tmin=0.0, tmax=inf)
+
+The number of crossings of each ray with the spheres' surfaces in (tmin, tmax), uint64 of
+shape (...): both roots of every sphere the ray's line meets count. From a point to infinity,
+an odd count means the point is inside an odd number of spheres.)doc";
+
+constexpr const char* kNearestDoc = R"doc(nearest(points, max_distance=inf)
+
+The sphere nearest each point, by signed distance to its surface |p - c| - r (negative
+inside; inside overlapping spheres, the one the point is deepest in), among those within
+max_distance.
+
+Returns (ids, distances, surface_points): uint32 (...), float32 (...) and float32 (..., 3),
+the closest point of that sphere's surface. A point with none: id NO_HIT, distance
+max_distance, surface point the point itself.)doc";
+
+constexpr const char* kInsideDoc = R"doc(inside(points)
+
+Whether each point (..., 3) lies inside any sphere (the open balls: a point on a surface is
+outside), bool of shape (...).)doc";
+
+constexpr const char* kOverlappingDoc = R"doc(overlapping(centre, radius)
+
+The ids (uint32, ascending) of the spheres that overlap the ball of this centre (3,) and
+radius: |c - centre| < r + radius (touching is not overlapping). Collision candidates. A
+negative or NaN radius, or a NaN centre, gives an empty array.)doc";
+
 constexpr const char* kRefitDoc = R"doc(refit(centers, radii)
 
 Moves the scene's spheres.
@@ -146,6 +185,16 @@ PYBIND11_MODULE(sphray, m) {
            py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, kOccludedDoc)
       .def("surface", &Scene::surface, py::arg("origins"), py::arg("directions"), py::arg("t"),
            py::arg("ids"), kSurfaceDoc)
+      .def("intersect_all", &Scene::intersect_all, py::arg("origins"), py::arg("directions"),
+           py::arg("max_hits") = 16, py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY,
+           kIntersectAllDoc)
+      .def("count_hits", &Scene::count_hits, py::arg("origins"), py::arg("directions"),
+           py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, kCountHitsDoc)
+      .def("nearest", &Scene::nearest, py::arg("points"), py::arg("max_distance") = INFINITY,
+           kNearestDoc)
+      .def("inside", &Scene::inside, py::arg("points"), kInsideDoc)
+      .def("overlapping", &Scene::overlapping, py::arg("centre"), py::arg("radius"),
+           kOverlappingDoc)
       .def("refit", &Scene::refit, py::arg("centers"), py::arg("radii"), kRefitDoc)
       .def("__len__", &Scene::size, "len(scene): the number of spheres.")
       .def_property_readonly("uses_bvh", &Scene::uses_bvh,

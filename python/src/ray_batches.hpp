@@ -38,6 +38,16 @@ void for_each_chunk(std::size_t count, const Chunk& chunk) {
                     });
 }
 
+/// The directions of a batch, checked against its origins' shape.
+inline Vec3Rows directions_like(const Vec3Rows& origins, const py::handle& directions) {
+  Vec3Rows d("directions", directions);
+  if (d.leading_shape() != origins.leading_shape()) {
+    throw py::value_error("directions: expected the shape of origins " + origins.shape() +
+                          ", got " + d.shape());
+  }
+  return d;
+}
+
 /// The rays of a batch as the caller gave them: origins and directions (..., 3), and tmin
 /// and tmax as scalars or one per ray.
 struct RayBatch {

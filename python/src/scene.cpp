@@ -9,20 +9,6 @@
 
 namespace sphray::python {
 
-namespace {
-
-// The directions of a batch, checked against its origins' shape.
-Vec3Rows directions_like(const Vec3Rows& origins, const py::handle& directions) {
-  Vec3Rows d("directions", directions);
-  if (d.leading_shape() != origins.leading_shape()) {
-    throw py::value_error("directions: expected the shape of origins " + origins.shape() +
-                          ", got " + d.shape());
-  }
-  return d;
-}
-
-}  // namespace
-
 Scene::Scene(const py::handle& centers, const py::handle& radii, const std::string& accel)
     : spheres_(centers, radii) {
   using render::Accel;

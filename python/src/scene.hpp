@@ -36,6 +36,22 @@ class Scene {
   /// (points, normals, front_face) where each ray meets its hit.
   py::tuple surface(const py::handle& origins, const py::handle& directions, const py::handle& t,
                     const py::handle& ids) const;
+  /// Every crossing of each ray (docs/queries.md): (t, ids, exits, counts), the first max_hits
+  /// crossings per ray sorted by t in (..., max_hits) arrays, unused slots t = NaN and
+  /// id = NO_HIT, and each ray's total count.
+  py::tuple intersect_all(const py::handle& origins, const py::handle& directions,
+                          std::size_t max_hits, const py::handle& tmin,
+                          const py::handle& tmax) const;
+  /// The number of crossings of each ray.
+  py::array count_hits(const py::handle& origins, const py::handle& directions,
+                       const py::handle& tmin, const py::handle& tmax) const;
+  /// (ids, distances, points): the nearest sphere to each point by signed distance.
+  py::tuple nearest(const py::handle& points, float max_distance) const;
+  /// Whether each point lies inside any sphere.
+  py::array inside(const py::handle& points) const;
+  /// The ids of the spheres overlapping the ball (centre, radius), ascending.
+  py::array overlapping(const py::handle& centre, float radius) const;
+
   /// New centres and radii for the same spheres (same count).
   void refit(const py::handle& centers, const py::handle& radii);
 
