@@ -59,6 +59,16 @@ struct BruteForce {
     return v;
   }
 
+  // A view with masks takes the masked loads (sphere_lanes.hpp, load_seen); one without them,
+  // exactly the loads it took before masks existed.
+  static Hit intersect(SphereView v, const Ray& ray) {
+    return v.mask != nullptr ? intersect<true>(v, ray) : intersect<false>(v, ray);
+  }
+  static bool occluded(SphereView v, const Ray& ray) {
+    return v.mask != nullptr ? occluded<true>(v, ray) : occluded<false>(v, ray);
+  }
+
+  template <bool kMasked>
   static Hit intersect(SphereView v, const Ray& ray) {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return {ray.tmax, kNoHit};
@@ -76,12 +86,14 @@ struct BruteForce {
     };
     const std::size_t whole = whole_batches(v);
     for (std::size_t b = 0; b < whole; ++b)
-      keep(Lanes::load(v, b * kWidth), static_cast<std::uint32_t>(b));
+      keep(Lanes::template load_seen<kMasked>(v, b * kWidth, s), static_cast<std::uint32_t>(b));
     if (whole * kWidth < v.count)
-      keep(Lanes::load_tail(v, whole * kWidth), static_cast<std::uint32_t>(whole));
+      keep(Lanes::template load_tail_seen<kMasked>(v, whole * kWidth, s),
+           static_cast<std::uint32_t>(whole));
     return reduce(best_t, best_batch, ray.tmax);
   }
 
+  template <bool kMasked>
   static bool occluded(SphereView v, const Ray& ray) {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return false;
@@ -94,8 +106,9 @@ struct BruteForce {
     };
     const std::size_t whole = whole_batches(v);
     for (std::size_t b = 0; b < whole; ++b)
-      if (any_hit(Lanes::load(v, b * kWidth))) return true;
-    return whole * kWidth < v.count && any_hit(Lanes::load_tail(v, whole * kWidth));
+      if (any_hit(Lanes::template load_seen<kMasked>(v, b * kWidth, s))) return true;
+    return whole * kWidth < v.count &&
+           any_hit(Lanes::template load_tail_seen<kMasked>(v, whole * kWidth, s));
   }
 };
 

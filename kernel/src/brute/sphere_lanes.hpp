@@ -29,6 +29,7 @@ template <class A>
 struct SphereLanes {
   using Floats = xsimd::batch<float, A>;
   using Mask = xsimd::batch_bool<float, A>;
+  using Uints = xsimd::batch<std::uint32_t, A>;
   static constexpr std::size_t kWidth = Floats::size;
 
   // What one ray contributes to every batch, computed once per ray.
@@ -37,6 +38,7 @@ struct SphereLanes {
     Floats ux, uy, uz;  // dir / |dir|, for may_hit only
     Floats a, inv_a, tmin;
     float tmax;
+    std::uint32_t mask;
   };
 
   // Four SoA arrays starting at one batch.
@@ -53,7 +55,8 @@ struct SphereLanes {
     const Vec3& d = ray.dir;
     const float a = d.x * d.x + d.y * d.y + d.z * d.z;
     const bool ok = finite(o.x) && finite(o.y) && finite(o.z) && finite(d.x) && finite(d.y) &&
-                    finite(d.z) && ray.tmin < ray.tmax && a >= 0x1p-126f && finite(a);
+                    finite(d.z) && ray.tmin < ray.tmax && a >= 0x1p-126f && finite(a) &&
+                    ray.mask != 0;
     if (!ok) return false;
     const float inv_length = 1.0f / __builtin_sqrtf(a);
     s = RaySetup{Floats(o.x),
@@ -68,7 +71,8 @@ struct SphereLanes {
                  Floats(a),
                  Floats(1.0f / a),
                  Floats(ray.tmin),
-                 ray.tmax};
+                 ray.tmax,
+                 ray.mask};
     return true;
   }
 
@@ -89,6 +93,32 @@ struct SphereLanes {
     }
     return {Floats::load_aligned(x), Floats::load_aligned(y), Floats::load_aligned(z),
             Floats::load_aligned(r)};
+  }
+
+  // The batch at index i of a view, its spheres the ray cannot see (their masks share no bit
+  // with its own) made never-hit by a radius of 0: the root finding downstream is then the
+  // unmasked one. kMasked is the view's having masks at all, decided once per query: views
+  // without them take exactly the unmasked loads.
+  template <bool kMasked>
+  static Spheres load_seen(const SphereView& v, std::size_t i, const RaySetup& s) {
+    Spheres sp = load(v, i);
+    if constexpr (kMasked) hide_unseen(sp, Uints::load_unaligned(v.mask + i), s.mask);
+    return sp;
+  }
+  template <bool kMasked>
+  static Spheres load_tail_seen(const SphereView& v, std::size_t i, const RaySetup& s) {
+    Spheres sp = load_tail(v, i);
+    if constexpr (kMasked) {
+      alignas(64) std::uint32_t m[kWidth] = {};
+      for (std::size_t k = 0; i + k < v.count; ++k)
+        m[k] = v.mask[i + k];
+      hide_unseen(sp, Uints::load_aligned(m), s.mask);
+    }
+    return sp;
+  }
+  static void hide_unseen(Spheres& sp, const Uints& masks, std::uint32_t ray_mask) {
+    const Uints seen = xsimd::bitwise_cast((masks & Uints(ray_mask)) != Uints(0u));
+    sp.r = xsimd::bitwise_cast<Floats>(xsimd::bitwise_cast<Uints>(sp.r) & seen);
   }
 
   // Per lane: the ray parameter t of the near root if it lies above tmin, else of the far root,
