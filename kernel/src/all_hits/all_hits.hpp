@@ -14,6 +14,7 @@
 #include "brute/sphere_lanes.hpp"
 #include "bvh/bvh_data.hpp"
 #include "bvh/walk.hpp"
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 
@@ -43,7 +44,7 @@ struct AllHits {
     if (!Lanes::setup(ray, s)) return 0;
     v = BruteForce<A>::clamp(v);
     const std::size_t whole = BruteForce<A>::whole_batches(v);
-    auto add = [&](const Spheres& sp, std::size_t first) {
+    auto add = [&](const Spheres& sp, std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
       add_batch<Skip::kPreTest>(
           s, sp, list, [&](unsigned lane) { return static_cast<std::uint32_t>(first + lane); });
     };
@@ -59,7 +60,7 @@ struct AllHits {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return 0;
     const float tmax = s.tmax;  // the walk's bound: it never shrinks
-    TreeWalk<A>::traverse(bvh, ray, tmax, [&](std::size_t first) {
+    TreeWalk<A>::traverse(bvh, ray, tmax, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
       add_batch<Skip::kAfterDisc>(s, Lanes::template load_seen<kMasked>(bvh.spheres, first, s),
                                   list, [&](unsigned lane) { return bvh.ids[first + lane]; });
       return false;

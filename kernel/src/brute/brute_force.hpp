@@ -9,6 +9,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "brute/sphere_lanes.hpp"
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 #include "sphray/ray.hpp"
@@ -76,7 +77,7 @@ struct BruteForce {
     Floats best_t(s.tmax);
     Floats best_batch = index_bits(kNoHit);
     // Strict < keeps the earlier batch (lower id) in a lane on equal t.
-    auto keep = [&](const Spheres& sp, std::uint32_t batch) {
+    auto keep = [&](const Spheres& sp, std::uint32_t batch) SPHRAY_FORCE_INLINE_LAMBDA {
       Floats t;
       Mask live;
       if (!Lanes::roots(s, sp, t, live)) return;
@@ -99,7 +100,7 @@ struct BruteForce {
     if (!Lanes::setup(ray, s)) return false;
     v = clamp(v);
     const Floats tmax(s.tmax);
-    auto any_hit = [&](const Spheres& sp) {
+    auto any_hit = [&](const Spheres& sp) SPHRAY_FORCE_INLINE_LAMBDA {
       Floats t;
       Mask live;
       return Lanes::roots(s, sp, t, live) && xsimd::any(live & (t > s.tmin) & (t < tmax));

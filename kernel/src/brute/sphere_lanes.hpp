@@ -10,6 +10,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "simd/force_inline.hpp"
 #include "simd/fused.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/ordered.hpp"
@@ -50,7 +51,7 @@ struct SphereLanes {
 
   // False for the rays the contract says miss everything. a = |d|^2 must be a normal, finite
   // float: 1/a is then finite too.
-  static bool setup(const Ray& ray, RaySetup& s) {
+  SPHRAY_FORCE_INLINE static bool setup(const Ray& ray, RaySetup& s) {
     const Vec3& o = ray.origin;
     const Vec3& d = ray.dir;
     const float a = d.x * d.x + d.y * d.y + d.z * d.z;
@@ -76,14 +77,14 @@ struct SphereLanes {
     return true;
   }
 
-  static Spheres load(const SphereView& v, std::size_t i) {
+  SPHRAY_FORCE_INLINE static Spheres load(const SphereView& v, std::size_t i) {
     return {Floats::load_unaligned(v.cx + i), Floats::load_unaligned(v.cy + i),
             Floats::load_unaligned(v.cz + i), Floats::load_unaligned(v.radius + i)};
   }
 
   // The last count % kWidth spheres of a view that promises no padding, copied into a batch
   // padded with radius-0 spheres (never hit). Paid once per ray, not per batch.
-  static Spheres load_tail(const SphereView& v, std::size_t i) {
+  SPHRAY_FORCE_INLINE static Spheres load_tail(const SphereView& v, std::size_t i) {
     alignas(64) float x[kWidth] = {}, y[kWidth] = {}, z[kWidth] = {}, r[kWidth] = {};
     for (std::size_t k = 0; i + k < v.count; ++k) {
       x[k] = v.cx[i + k];
@@ -100,13 +101,15 @@ struct SphereLanes {
   // unmasked one. kMasked is the view's having masks at all, decided once per query: views
   // without them take exactly the unmasked loads.
   template <bool kMasked>
-  static Spheres load_seen(const SphereView& v, std::size_t i, const RaySetup& s) {
+  SPHRAY_FORCE_INLINE static Spheres load_seen(const SphereView& v, std::size_t i,
+                                               const RaySetup& s) {
     Spheres sp = load(v, i);
     if constexpr (kMasked) hide_unseen(sp, Uints::load_unaligned(v.mask + i), s.mask);
     return sp;
   }
   template <bool kMasked>
-  static Spheres load_tail_seen(const SphereView& v, std::size_t i, const RaySetup& s) {
+  SPHRAY_FORCE_INLINE static Spheres load_tail_seen(const SphereView& v, std::size_t i,
+                                                    const RaySetup& s) {
     Spheres sp = load_tail(v, i);
     if constexpr (kMasked) {
       alignas(64) std::uint32_t m[kWidth] = {};
@@ -116,7 +119,8 @@ struct SphereLanes {
     }
     return sp;
   }
-  static void hide_unseen(Spheres& sp, const Uints& masks, std::uint32_t ray_mask) {
+  SPHRAY_FORCE_INLINE static void hide_unseen(Spheres& sp, const Uints& masks,
+                                              std::uint32_t ray_mask) {
     const Uints seen = xsimd::bitwise_cast((masks & Uints(ray_mask)) != Uints(0u));
     sp.r = xsimd::bitwise_cast<Floats>(xsimd::bitwise_cast<Uints>(sp.r) & seen);
   }
@@ -143,7 +147,8 @@ struct SphereLanes {
   // No fused multiply-add, and every sum in one fixed order: every instruction set, and the
   // scalar reference (scalar.cpp), make the same roundings and return the same bits.
   template <Skip kSkip = Skip::kPreTest>
-  static bool roots(const RaySetup& s, const Spheres& sp, Floats& t, Mask& live) {
+  SPHRAY_FORCE_INLINE static bool roots(const RaySetup& s, const Spheres& sp, Floats& t,
+                                        Mask& live) {
     Floats near, far;
     if (!near_far<kSkip>(s, sp, near, far, live)) return false;
     t = xsimd::select(near > s.tmin, near, far);
@@ -153,8 +158,8 @@ struct SphereLanes {
   // Both roots per lane, near <= far, for the queries that want every crossing (all_hits/):
   // the same operations as roots(), which takes one of them.
   template <Skip kSkip = Skip::kPreTest>
-  static bool near_far(const RaySetup& s, const Spheres& sp, Floats& near, Floats& far,
-                       Mask& live) {
+  SPHRAY_FORCE_INLINE static bool near_far(const RaySetup& s, const Spheres& sp, Floats& near,
+                                           Floats& far, Mask& live) {
     const Floats gx = sp.cx - s.ox, gy = sp.cy - s.oy, gz = sp.cz - s.oz;
     if (kSkip == Skip::kPreTest && !may_hit(s, sp, gx, gy, gz)) return false;
     const Floats b = gx * s.dx + (gy * s.dy + gz * s.dz);
@@ -185,8 +190,8 @@ struct SphereLanes {
   // SIMD algorithm"); kMayHitSlack covers underflow. NaN lanes pass.
   static constexpr float kMayHitMargin = 64.0f * 0x1p-24f;
   static constexpr float kMayHitSlack = 0x1p-120f;
-  static bool may_hit(const RaySetup& s, const Spheres& sp, const Floats& gx, const Floats& gy,
-                      const Floats& gz) {
+  SPHRAY_FORCE_INLINE static bool may_hit(const RaySetup& s, const Spheres& sp, const Floats& gx,
+                                          const Floats& gy, const Floats& gz) {
     using F = Fused<A>;
     const Floats gg = F::fma(gx, gx, F::fma(gy, gy, gz * gz));
     const Floats gu = F::fma(gx, s.ux, F::fma(gy, s.uy, gz * s.uz));
@@ -198,7 +203,9 @@ struct SphereLanes {
   // copysign(x, b) for x >= 0 (a square root; in a lane that cannot hit, any value), written
   // out: xsimd's copysign calls a function templated on float only, one symbol for every unit
   // (simd/isa_namespace.hpp).
-  static Floats with_sign_of(const Floats& x, const Floats& b) { return x | (b & Floats(-0.0f)); }
+  SPHRAY_FORCE_INLINE static Floats with_sign_of(const Floats& x, const Floats& b) {
+    return x | (b & Floats(-0.0f));
+  }
 };
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -11,6 +11,7 @@
 #include "brute/sphere_lanes.hpp"
 #include "bvh/bvh_data.hpp"
 #include "bvh/robust_slab.hpp"
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 
@@ -35,8 +36,9 @@ struct LeafTest {
   // each mispredicted one costing more than the arithmetic it skips, and coherent rays lose
   // nothing without them. The tree picks (QueryPlan::branch_free_leaves).
   template <bool kBranchFree, bool kMasked>
-  static void keep_closest(const BvhData& bvh, const typename Batch::RaySetup& s, std::size_t i,
-                           Hit& best) {
+  SPHRAY_FORCE_INLINE static void keep_closest(const BvhData& bvh,
+                                               const typename Batch::RaySetup& s, std::size_t i,
+                                               Hit& best) {
     Floats t;
     Mask live;
     constexpr Skip kSkip = kBranchFree ? Skip::kNever : Skip::kAfterDisc;

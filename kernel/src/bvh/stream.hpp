@@ -10,6 +10,7 @@
 #include "bvh/bvh_data.hpp"
 #include "bvh/traverse.hpp"
 #include "dispatch/query_plan.hpp"
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {

@@ -13,6 +13,7 @@
 #include "bvh/leaf_test.hpp"
 #include "bvh/walk.hpp"
 #include "dispatch/query_plan.hpp"
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
@@ -42,7 +43,7 @@ struct BvhTraversal {
     typename Batch::RaySetup s;
     Hit best{ray.tmax, kNoHit};
     if (!Batch::setup(ray, s)) return best;
-    Walks::traverse(bvh, ray, best.t, [&](std::size_t first) {
+    Walks::traverse(bvh, ray, best.t, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
       Leaves::template keep_closest<kBranchFree, kMasked>(bvh, s, first, best);
       return false;
     });
@@ -59,7 +60,7 @@ struct BvhTraversal {
     if (!Batch::setup(ray, s)) return false;
     const Floats tmax(s.tmax);
     bool hit = false;
-    Walks::traverse(bvh, ray, s.tmax, [&](std::size_t first) {
+    Walks::traverse(bvh, ray, s.tmax, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
       Floats t;
       Mask live;
       const auto spheres = Batch::template load_seen<kMasked>(bvh.spheres, first, s);
