@@ -8,6 +8,9 @@
 
 namespace sphray {
 
+/// Every bit: the default mask of rays and spheres (Ray::mask, SphereView::mask).
+inline constexpr std::uint32_t kAllBits = 0xffffffffu;
+
 /// The points origin + t * dir for tmin < t < tmax (an open interval). dir need not be unit
 /// length: t is measured in units of dir. A ray with a NaN or infinite origin or direction
 /// component, a zero direction, a NaN tmin or tmax, or !(tmin < tmax) misses everything.
@@ -16,6 +19,9 @@ struct Ray {
   Vec3 dir;
   float tmin = 0.0f;
   float tmax = INFINITY;
+  /// The ray sees only the spheres whose mask shares a bit with this (SphereView::mask); a
+  /// ray whose mask is 0 sees nothing.
+  std::uint32_t mask = kAllBits;
 
   constexpr Vec3 at(float t) const { return origin + t * dir; }
 };

@@ -5,13 +5,19 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
+#include "sphray/ray.hpp"
 #include "sphray/vec3.hpp"
 
 namespace sphray {
 
 /// A non-owning structure-of-arrays view of spheres: sphere i has centre (cx[i], cy[i], cz[i])
 /// and radius radius[i], and id i. Any alignment, any count.
+///
+/// mask, when not null, gives each sphere a 32-bit mask: a ray sees sphere i only if
+/// mask[i] & ray.mask != 0 (docs/queries.md, "Masks"). Null: every sphere has every bit, and the
+/// queries take their unmasked path, at no cost.
 ///
 /// padded_count is an optional promise: entries [count, padded_count) of the four arrays are
 /// readable and hold spheres that are never hit (radius <= 0). The kernel then reads whole
@@ -23,6 +29,7 @@ struct SphereView {
   const float* radius;
   std::size_t count;
   std::size_t padded_count = 0;
+  const std::uint32_t* mask = nullptr;  // readable up to padded_count as well, if that is set
 };
 
 /// Owning structure-of-arrays sphere storage. Each array starts on a kAlignment-byte boundary
@@ -44,7 +51,7 @@ class SphereSoA {
   /// When size() reaches capacity() the arrays are reallocated: every SphereView taken
   /// earlier then points at freed memory and must be taken again (reserve() first to add
   /// without reallocating). A SphereBVH keeps its own copy and is not affected.
-  std::uint32_t add(Vec3 center, float radius);
+  std::uint32_t add(Vec3 center, float radius, std::uint32_t mask = kAllBits);
   /// Replaces sphere id. Throws std::out_of_range if id >= size().
   void set(std::uint32_t id, Vec3 center, float radius);
 
@@ -56,6 +63,11 @@ class SphereSoA {
 
   Vec3 center(std::uint32_t id) const { return {x(id), y(id), z(id)}; }
   float radius(std::uint32_t id) const { return array(3)[id]; }
+  /// The mask rays must share a bit with to see sphere id. The mask array is made on the first
+  /// mask other than kAllBits; until then views carry no mask. Throws std::out_of_range if
+  /// id >= size().
+  void set_mask(std::uint32_t id, std::uint32_t mask);
+  std::uint32_t mask(std::uint32_t id) const { return masks_.empty() ? kAllBits : masks_[id]; }
 
   /// A view of the current arrays. It stays valid until they are reallocated or freed: an
   /// add() at size() == capacity(), a reserve() beyond capacity(), an assignment to or from
@@ -78,6 +90,8 @@ class SphereSoA {
   std::unique_ptr<float[], AlignedDelete> data_;
   std::size_t size_ = 0;
   std::size_t capacity_ = 0;
+  // Empty, or capacity_ masks (the padding's kAllBits: its radius-0 spheres are never hit).
+  std::vector<std::uint32_t> masks_;
 };
 
 }  // namespace sphray

@@ -14,6 +14,7 @@
 #include "brute/sphere_lanes.hpp"
 #include "bvh/bvh_data.hpp"
 #include "bvh/walk.hpp"
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 
@@ -29,27 +30,39 @@ struct AllHits {
   static constexpr std::size_t kWidth = Lanes::kWidth;
 
   static std::size_t intersect_all(SphereView v, const Ray& ray, HitList& list) {
+    return v.mask != nullptr ? intersect_all<true>(v, ray, list)
+                             : intersect_all<false>(v, ray, list);
+  }
+  static std::size_t intersect_all(const BvhData& bvh, const Ray& ray, HitList& list) {
+    return bvh.spheres.mask != nullptr ? intersect_all<true>(bvh, ray, list)
+                                       : intersect_all<false>(bvh, ray, list);
+  }
+
+  template <bool kMasked>
+  static std::size_t intersect_all(SphereView v, const Ray& ray, HitList& list) {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return 0;
     v = BruteForce<A>::clamp(v);
     const std::size_t whole = BruteForce<A>::whole_batches(v);
-    auto add = [&](const Spheres& sp, std::size_t first) {
+    auto add = [&](const Spheres& sp, std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
       add_batch<Skip::kPreTest>(
           s, sp, list, [&](unsigned lane) { return static_cast<std::uint32_t>(first + lane); });
     };
     for (std::size_t b = 0; b < whole; ++b)
-      add(Lanes::load(v, b * kWidth), b * kWidth);
-    if (whole * kWidth < v.count) add(Lanes::load_tail(v, whole * kWidth), whole * kWidth);
+      add(Lanes::template load_seen<kMasked>(v, b * kWidth, s), b * kWidth);
+    if (whole * kWidth < v.count)
+      add(Lanes::template load_tail_seen<kMasked>(v, whole * kWidth, s), whole * kWidth);
     return list.total();
   }
 
+  template <bool kMasked>
   static std::size_t intersect_all(const BvhData& bvh, const Ray& ray, HitList& list) {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return 0;
     const float tmax = s.tmax;  // the walk's bound: it never shrinks
-    TreeWalk<A>::traverse(bvh, ray, tmax, [&](std::size_t first) {
-      add_batch<Skip::kAfterDisc>(s, Lanes::load(bvh.spheres, first), list,
-                                  [&](unsigned lane) { return bvh.ids[first + lane]; });
+    TreeWalk<A>::traverse(bvh, ray, tmax, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
+      add_batch<Skip::kAfterDisc>(s, Lanes::template load_seen<kMasked>(bvh.spheres, first, s),
+                                  list, [&](unsigned lane) { return bvh.ids[first + lane]; });
       return false;
     });
     return list.total();

@@ -9,6 +9,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "brute/sphere_lanes.hpp"
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 #include "sphray/ray.hpp"
@@ -59,6 +60,16 @@ struct BruteForce {
     return v;
   }
 
+  // A view with masks takes the masked loads (sphere_lanes.hpp, load_seen); one without them,
+  // exactly the loads it took before masks existed.
+  static Hit intersect(SphereView v, const Ray& ray) {
+    return v.mask != nullptr ? intersect<true>(v, ray) : intersect<false>(v, ray);
+  }
+  static bool occluded(SphereView v, const Ray& ray) {
+    return v.mask != nullptr ? occluded<true>(v, ray) : occluded<false>(v, ray);
+  }
+
+  template <bool kMasked>
   static Hit intersect(SphereView v, const Ray& ray) {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return {ray.tmax, kNoHit};
@@ -66,7 +77,7 @@ struct BruteForce {
     Floats best_t(s.tmax);
     Floats best_batch = index_bits(kNoHit);
     // Strict < keeps the earlier batch (lower id) in a lane on equal t.
-    auto keep = [&](const Spheres& sp, std::uint32_t batch) {
+    auto keep = [&](const Spheres& sp, std::uint32_t batch) SPHRAY_FORCE_INLINE_LAMBDA {
       Floats t;
       Mask live;
       if (!Lanes::roots(s, sp, t, live)) return;
@@ -76,26 +87,29 @@ struct BruteForce {
     };
     const std::size_t whole = whole_batches(v);
     for (std::size_t b = 0; b < whole; ++b)
-      keep(Lanes::load(v, b * kWidth), static_cast<std::uint32_t>(b));
+      keep(Lanes::template load_seen<kMasked>(v, b * kWidth, s), static_cast<std::uint32_t>(b));
     if (whole * kWidth < v.count)
-      keep(Lanes::load_tail(v, whole * kWidth), static_cast<std::uint32_t>(whole));
+      keep(Lanes::template load_tail_seen<kMasked>(v, whole * kWidth, s),
+           static_cast<std::uint32_t>(whole));
     return reduce(best_t, best_batch, ray.tmax);
   }
 
+  template <bool kMasked>
   static bool occluded(SphereView v, const Ray& ray) {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return false;
     v = clamp(v);
     const Floats tmax(s.tmax);
-    auto any_hit = [&](const Spheres& sp) {
+    auto any_hit = [&](const Spheres& sp) SPHRAY_FORCE_INLINE_LAMBDA {
       Floats t;
       Mask live;
       return Lanes::roots(s, sp, t, live) && xsimd::any(live & (t > s.tmin) & (t < tmax));
     };
     const std::size_t whole = whole_batches(v);
     for (std::size_t b = 0; b < whole; ++b)
-      if (any_hit(Lanes::load(v, b * kWidth))) return true;
-    return whole * kWidth < v.count && any_hit(Lanes::load_tail(v, whole * kWidth));
+      if (any_hit(Lanes::template load_seen<kMasked>(v, b * kWidth, s))) return true;
+    return whole * kWidth < v.count &&
+           any_hit(Lanes::template load_tail_seen<kMasked>(v, whole * kWidth, s));
   }
 };
 

@@ -19,7 +19,7 @@ namespace sphray::detail {
 bool valid_ray(const Ray& ray) {
   const float a = dot(ray.dir, ray.dir);
   return isfinite(ray.origin) && isfinite(ray.dir) && ray.tmin < ray.tmax && a >= 0x1p-126f &&
-         std::isfinite(a);
+         std::isfinite(a) && ray.mask != 0;
 }
 }  // namespace sphray::detail
 
@@ -74,6 +74,12 @@ void add_crossings(Vec3 center, float radius, std::uint32_t id, const Ray& ray,
   if (inside(roots->far)) list.add(roots->far, id, true);
 }
 
+// Sphere i's radius, or 0 (never hit) if the ray cannot see it: the masks share no bit. The
+// kernels hide a sphere the same way (SphereLanes::load_seen).
+float seen_radius(const SphereView& v, std::size_t i, const Ray& ray) {
+  return v.mask == nullptr || (v.mask[i] & ray.mask) != 0 ? v.radius[i] : 0.0f;
+}
+
 Vec3 center_of(const SphereView& v, std::size_t i) {
   return {v.cx[i], v.cy[i], v.cz[i]};
 }
@@ -89,7 +95,7 @@ Hit intersect(SphereView spheres, const Ray& ray) {
   if (!valid_ray(ray)) return best;
   for (std::size_t i = 0; i < id_count(spheres); ++i) {
     // Strictly closer only: on equal t the lower id stays.
-    if (auto t = sphere_hit(center_of(spheres, i), spheres.radius[i], ray, best.t))
+    if (auto t = sphere_hit(center_of(spheres, i), seen_radius(spheres, i, ray), ray, best.t))
       best = {*t, static_cast<std::uint32_t>(i)};
   }
   return best;
@@ -98,7 +104,7 @@ Hit intersect(SphereView spheres, const Ray& ray) {
 bool occluded(SphereView spheres, const Ray& ray) {
   if (!valid_ray(ray)) return false;
   for (std::size_t i = 0; i < id_count(spheres); ++i)
-    if (sphere_hit(center_of(spheres, i), spheres.radius[i], ray, ray.tmax)) return true;
+    if (sphere_hit(center_of(spheres, i), seen_radius(spheres, i, ray), ray, ray.tmax)) return true;
   return false;
 }
 
@@ -110,8 +116,8 @@ std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out
                                              out.size());
   if (!valid_ray(ray)) return 0;
   for (std::size_t i = 0; i < id_count(spheres); ++i)
-    add_crossings(center_of(spheres, i), spheres.radius[i], static_cast<std::uint32_t>(i), ray,
-                  list);
+    add_crossings(center_of(spheres, i), seen_radius(spheres, i, ray),
+                  static_cast<std::uint32_t>(i), ray, list);
   return list.total();
 }
 
@@ -133,8 +139,8 @@ std::size_t scalar_bvh_intersect_all(const BvhData& bvh, const Ray& ray, Hit* hi
   if (!valid_ray(ray)) return 0;
   const SphereView& slots = bvh.spheres;
   for (std::size_t i = 0; i < slots.count; ++i)
-    scalar::add_crossings({slots.cx[i], slots.cy[i], slots.cz[i]}, slots.radius[i], bvh.ids[i], ray,
-                          list);
+    scalar::add_crossings({slots.cx[i], slots.cy[i], slots.cz[i]},
+                          scalar::seen_radius(slots, i, ray), bvh.ids[i], ray, list);
   return list.total();
 }
 

@@ -10,6 +10,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "simd/force_inline.hpp"
 #include "simd/fused.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/ordered.hpp"
@@ -29,6 +30,7 @@ template <class A>
 struct SphereLanes {
   using Floats = xsimd::batch<float, A>;
   using Mask = xsimd::batch_bool<float, A>;
+  using Uints = xsimd::batch<std::uint32_t, A>;
   static constexpr std::size_t kWidth = Floats::size;
 
   // What one ray contributes to every batch, computed once per ray.
@@ -37,6 +39,7 @@ struct SphereLanes {
     Floats ux, uy, uz;  // dir / |dir|, for may_hit only
     Floats a, inv_a, tmin;
     float tmax;
+    std::uint32_t mask;
   };
 
   // Four SoA arrays starting at one batch.
@@ -48,12 +51,13 @@ struct SphereLanes {
 
   // False for the rays the contract says miss everything. a = |d|^2 must be a normal, finite
   // float: 1/a is then finite too.
-  static bool setup(const Ray& ray, RaySetup& s) {
+  SPHRAY_FORCE_INLINE static bool setup(const Ray& ray, RaySetup& s) {
     const Vec3& o = ray.origin;
     const Vec3& d = ray.dir;
     const float a = d.x * d.x + d.y * d.y + d.z * d.z;
     const bool ok = finite(o.x) && finite(o.y) && finite(o.z) && finite(d.x) && finite(d.y) &&
-                    finite(d.z) && ray.tmin < ray.tmax && a >= 0x1p-126f && finite(a);
+                    finite(d.z) && ray.tmin < ray.tmax && a >= 0x1p-126f && finite(a) &&
+                    ray.mask != 0;
     if (!ok) return false;
     const float inv_length = 1.0f / __builtin_sqrtf(a);
     s = RaySetup{Floats(o.x),
@@ -68,18 +72,19 @@ struct SphereLanes {
                  Floats(a),
                  Floats(1.0f / a),
                  Floats(ray.tmin),
-                 ray.tmax};
+                 ray.tmax,
+                 ray.mask};
     return true;
   }
 
-  static Spheres load(const SphereView& v, std::size_t i) {
+  SPHRAY_FORCE_INLINE static Spheres load(const SphereView& v, std::size_t i) {
     return {Floats::load_unaligned(v.cx + i), Floats::load_unaligned(v.cy + i),
             Floats::load_unaligned(v.cz + i), Floats::load_unaligned(v.radius + i)};
   }
 
   // The last count % kWidth spheres of a view that promises no padding, copied into a batch
   // padded with radius-0 spheres (never hit). Paid once per ray, not per batch.
-  static Spheres load_tail(const SphereView& v, std::size_t i) {
+  SPHRAY_FORCE_INLINE static Spheres load_tail(const SphereView& v, std::size_t i) {
     alignas(64) float x[kWidth] = {}, y[kWidth] = {}, z[kWidth] = {}, r[kWidth] = {};
     for (std::size_t k = 0; i + k < v.count; ++k) {
       x[k] = v.cx[i + k];
@@ -89,6 +94,35 @@ struct SphereLanes {
     }
     return {Floats::load_aligned(x), Floats::load_aligned(y), Floats::load_aligned(z),
             Floats::load_aligned(r)};
+  }
+
+  // The batch at index i of a view, its spheres the ray cannot see (their masks share no bit
+  // with its own) made never-hit by a radius of 0: the root finding downstream is then the
+  // unmasked one. kMasked is the view's having masks at all, decided once per query: views
+  // without them take exactly the unmasked loads.
+  template <bool kMasked>
+  SPHRAY_FORCE_INLINE static Spheres load_seen(const SphereView& v, std::size_t i,
+                                               const RaySetup& s) {
+    Spheres sp = load(v, i);
+    if constexpr (kMasked) hide_unseen(sp, Uints::load_unaligned(v.mask + i), s.mask);
+    return sp;
+  }
+  template <bool kMasked>
+  SPHRAY_FORCE_INLINE static Spheres load_tail_seen(const SphereView& v, std::size_t i,
+                                                    const RaySetup& s) {
+    Spheres sp = load_tail(v, i);
+    if constexpr (kMasked) {
+      alignas(64) std::uint32_t m[kWidth] = {};
+      for (std::size_t k = 0; i + k < v.count; ++k)
+        m[k] = v.mask[i + k];
+      hide_unseen(sp, Uints::load_aligned(m), s.mask);
+    }
+    return sp;
+  }
+  SPHRAY_FORCE_INLINE static void hide_unseen(Spheres& sp, const Uints& masks,
+                                              std::uint32_t ray_mask) {
+    const Uints seen = xsimd::bitwise_cast((masks & Uints(ray_mask)) != Uints(0u));
+    sp.r = xsimd::bitwise_cast<Floats>(xsimd::bitwise_cast<Uints>(sp.r) & seen);
   }
 
   // Per lane: the ray parameter t of the near root if it lies above tmin, else of the far root,
@@ -113,7 +147,8 @@ struct SphereLanes {
   // No fused multiply-add, and every sum in one fixed order: every instruction set, and the
   // scalar reference (scalar.cpp), make the same roundings and return the same bits.
   template <Skip kSkip = Skip::kPreTest>
-  static bool roots(const RaySetup& s, const Spheres& sp, Floats& t, Mask& live) {
+  SPHRAY_FORCE_INLINE static bool roots(const RaySetup& s, const Spheres& sp, Floats& t,
+                                        Mask& live) {
     Floats near, far;
     if (!near_far<kSkip>(s, sp, near, far, live)) return false;
     t = xsimd::select(near > s.tmin, near, far);
@@ -123,8 +158,8 @@ struct SphereLanes {
   // Both roots per lane, near <= far, for the queries that want every crossing (all_hits/):
   // the same operations as roots(), which takes one of them.
   template <Skip kSkip = Skip::kPreTest>
-  static bool near_far(const RaySetup& s, const Spheres& sp, Floats& near, Floats& far,
-                       Mask& live) {
+  SPHRAY_FORCE_INLINE static bool near_far(const RaySetup& s, const Spheres& sp, Floats& near,
+                                           Floats& far, Mask& live) {
     const Floats gx = sp.cx - s.ox, gy = sp.cy - s.oy, gz = sp.cz - s.oz;
     if (kSkip == Skip::kPreTest && !may_hit(s, sp, gx, gy, gz)) return false;
     const Floats b = gx * s.dx + (gy * s.dy + gz * s.dz);
@@ -155,8 +190,8 @@ struct SphereLanes {
   // SIMD algorithm"); kMayHitSlack covers underflow. NaN lanes pass.
   static constexpr float kMayHitMargin = 64.0f * 0x1p-24f;
   static constexpr float kMayHitSlack = 0x1p-120f;
-  static bool may_hit(const RaySetup& s, const Spheres& sp, const Floats& gx, const Floats& gy,
-                      const Floats& gz) {
+  SPHRAY_FORCE_INLINE static bool may_hit(const RaySetup& s, const Spheres& sp, const Floats& gx,
+                                          const Floats& gy, const Floats& gz) {
     using F = Fused<A>;
     const Floats gg = F::fma(gx, gx, F::fma(gy, gy, gz * gz));
     const Floats gu = F::fma(gx, s.ux, F::fma(gy, s.uy, gz * s.uz));
@@ -168,7 +203,9 @@ struct SphereLanes {
   // copysign(x, b) for x >= 0 (a square root; in a lane that cannot hit, any value), written
   // out: xsimd's copysign calls a function templated on float only, one symbol for every unit
   // (simd/isa_namespace.hpp).
-  static Floats with_sign_of(const Floats& x, const Floats& b) { return x | (b & Floats(-0.0f)); }
+  SPHRAY_FORCE_INLINE static Floats with_sign_of(const Floats& x, const Floats& b) {
+    return x | (b & Floats(-0.0f));
+  }
 };
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -12,6 +12,7 @@
 #include "bvh/bvh_data.hpp"
 #include "bvh/node.hpp"
 #include "bvh/robust_slab.hpp"
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 #include "simd/ordered.hpp"
@@ -41,7 +42,7 @@ struct BoxTest {
     float tnear;
   };
 
-  static NodeSetup node_setup(const Ray& ray) {
+  SPHRAY_FORCE_INLINE static NodeSetup node_setup(const Ray& ray) {
     const Vec3& o = ray.origin;
     const Vec3& d = ray.dir;
     // A zero component gives an infinite inverse; its slab then yields +-inf, or NaN where the
@@ -58,15 +59,15 @@ struct BoxTest {
             __builtin_signbit(d.z) ? 5u : 4u};
   }
 
-  static Floats plane(const Node& node, std::size_t row) {
+  SPHRAY_FORCE_INLINE static Floats plane(const Node& node, std::size_t row) {
     return Floats::load_aligned(node.plane_row(row));
   }
 
   // The children whose boxes the ray enters before best_t, and where it enters them. kAhead:
   // the ray passed QueryPlan::ahead(); both forms return the same mask and tnear for such a ray.
   template <bool kAhead>
-  static Mask enter_children(const NodeSetup& s, const Node& node, const Floats& best_t,
-                             Floats& tnear) {
+  SPHRAY_FORCE_INLINE static Mask enter_children(const NodeSetup& s, const Node& node,
+                                                 const Floats& best_t, Floats& tnear) {
     const Floats near_x = (plane(node, s.near_x) - s.ox) * s.inv_dx;
     const Floats near_y = (plane(node, s.near_y) - s.oy) * s.inv_dy;
     const Floats near_z = (plane(node, s.near_z) - s.oz) * s.inv_dz;
@@ -103,8 +104,8 @@ struct BoxTest {
   // Pushes the entered children but the nearest, farthest first, and returns the nearest: it
   // is visited next, with no trip through the stack. One or two children, what most nodes give
   // an incoherent ray, take a path without data-dependent branches.
-  static ChildRef enter(const Node& node, unsigned bits, const Floats& tnear, StackEntry* stack,
-                        std::size_t& top) {
+  SPHRAY_FORCE_INLINE static ChildRef enter(const Node& node, unsigned bits, const Floats& tnear,
+                                            StackEntry* stack, std::size_t& top) {
     alignas(64) float t[kWidth];
     tnear.store_aligned(t);
     const unsigned rest = bits & (bits - 1);

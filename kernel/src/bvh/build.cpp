@@ -146,7 +146,7 @@ BvhData BvhArrays::data() const {
   d.node_count = node_count;
   if (slots != 0) {
     const float* x = spheres.get();
-    d.spheres = {x, x + slots, x + 2 * slots, x + 3 * slots, slots, slots};
+    d.spheres = {x, x + slots, x + 2 * slots, x + 3 * slots, slots, slots, masks.get()};
   }
   d.ids = ids.get();
   d.count = source_count;
@@ -157,7 +157,8 @@ BvhData BvhArrays::data() const {
 
 std::size_t BvhArrays::memory_bytes() const {
   return node_floats(node_count, width) * sizeof(float) +
-         slots * (4 * sizeof(float) + sizeof(std::uint32_t));
+         slots * (4 * sizeof(float) + sizeof(std::uint32_t)) +
+         (masks ? slots * sizeof(std::uint32_t) : 0);
 }
 
 BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions& options) {
@@ -168,10 +169,12 @@ BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions
   const int cores = tbb::info::default_concurrency();
   const int use = options.threads == 0 ? cores : std::min(cores, static_cast<int>(options.threads));
   tbb::task_arena arena(use);
-  return arena.execute([&] { return build_here(spheres, width, options.parallel_min); });
+  BvhArrays tree = arena.execute([&] { return build_here(spheres, width, options.parallel_min); });
 #else
-  return build_here(spheres, width, options.parallel_min);
+  BvhArrays tree = build_here(spheres, width, options.parallel_min);
 #endif
+  copy_masks(tree, spheres);
+  return tree;
 }
 
 }  // namespace sphray::detail

@@ -28,6 +28,8 @@ struct BvhArrays {
   /// never-hit spheres that a read of the last leaf's whole batch may reach.
   AlignedArray<float> spheres;
   AlignedArray<std::uint32_t> ids;  // per slot; kNoHit for the padding
+  /// Per slot, the mask of its sphere (0 for the padding); null when the view had no masks.
+  AlignedArray<std::uint32_t> masks;
   std::size_t slots = 0;
   std::size_t source_count = 0;  // the view's count
   /// The sum of the leaf boxes' volumes over the root box's: how many leaf boxes a point of
@@ -44,6 +46,9 @@ BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions
 
 /// Copies the moved spheres into the tree's leaf order and recomputes every box bottom-up.
 void refit_bvh(BvhArrays& tree, SphereView spheres);
+
+/// Gives tree the masks of spheres slot by slot (the view's ids), or none if it has none.
+void copy_masks(BvhArrays& tree, SphereView spheres);
 
 /// The leaf boxes' summed volume over the root box's (BvhArrays::leaf_overlap), from the
 /// written nodes.

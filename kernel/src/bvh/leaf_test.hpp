@@ -11,6 +11,7 @@
 #include "brute/sphere_lanes.hpp"
 #include "bvh/bvh_data.hpp"
 #include "bvh/robust_slab.hpp"
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 
@@ -34,13 +35,15 @@ struct LeafTest {
   // them with a lane whose discriminant is non-negative: there the branches are coin tosses,
   // each mispredicted one costing more than the arithmetic it skips, and coherent rays lose
   // nothing without them. The tree picks (QueryPlan::branch_free_leaves).
-  template <bool kBranchFree>
-  static void keep_closest(const BvhData& bvh, const typename Batch::RaySetup& s, std::size_t i,
-                           Hit& best) {
+  template <bool kBranchFree, bool kMasked>
+  SPHRAY_FORCE_INLINE static void keep_closest(const BvhData& bvh,
+                                               const typename Batch::RaySetup& s, std::size_t i,
+                                               Hit& best) {
     Floats t;
     Mask live;
     constexpr Skip kSkip = kBranchFree ? Skip::kNever : Skip::kAfterDisc;
-    if (!Batch::template roots<kSkip>(s, Batch::load(bvh.spheres, i), t, live)) return;
+    const auto spheres = Batch::template load_seen<kMasked>(bvh.spheres, i, s);
+    if (!Batch::template roots<kSkip>(s, spheres, t, live)) return;
     const Mask hit = live & (t > s.tmin) & (t <= Floats(best.t));
     if constexpr (kBranchFree) {
       if (xsimd::none(hit)) return;

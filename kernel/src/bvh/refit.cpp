@@ -49,11 +49,26 @@ float measure_leaf_overlap(const BvhArrays& tree) {
   return std::isfinite(overlap) ? static_cast<float>(std::min(overlap, 1e30)) : 0.0f;
 }
 
+void copy_masks(BvhArrays& tree, SphereView v) {
+  if (v.mask == nullptr || tree.slots == 0) {
+    tree.masks.reset();
+    return;
+  }
+  if (!tree.masks)
+    tree.masks.reset(static_cast<std::uint32_t*>(
+        ::operator new[](tree.slots * sizeof(std::uint32_t), std::align_val_t{64})));
+  for (std::size_t slot = 0; slot < tree.slots; ++slot) {
+    const std::uint32_t id = tree.ids[slot];
+    tree.masks[slot] = id == kNoHit ? 0u : v.mask[id];
+  }
+}
+
 void refit_bvh(BvhArrays& tree, SphereView v) {
   if (v.count != tree.source_count)
     throw std::invalid_argument("sphray::SphereBVH::refit: the sphere count changed");
   if (tree.node_count == 0) return;
   copy_spheres(tree, v);
+  copy_masks(tree, v);
   const BvhData d = tree.data();
   const std::size_t w = tree.width;
   // Children come after their parent, so a reverse sweep sees every child's boxes first.

@@ -60,7 +60,8 @@ void visit(const BvhData& bvh, const Ray& ray, const float& tmax, Leaf&& leaf) {
 }
 
 SphereView one_sphere(const SphereView& v, std::size_t i) {
-  return {v.cx + i, v.cy + i, v.cz + i, v.radius + i, 1, 0};
+  return {
+      v.cx + i, v.cy + i, v.cz + i, v.radius + i, 1, 0, v.mask != nullptr ? v.mask + i : nullptr};
 }
 
 // Visits the one leaf of a tree over at most width spheres, or every leaf the ray enters. The

@@ -10,6 +10,7 @@
 #include "bvh/bvh_data.hpp"
 #include "bvh/traverse.hpp"
 #include "dispatch/query_plan.hpp"
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
@@ -26,29 +27,37 @@ struct TreeStream {
   // hits[i] = intersect(bvh, rays[i]): a chunk of rays one at a time, or in turns where the
   // plan says. The tree's leaf test is picked once per call.
   static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
-    if (Plan::branch_free_leaves(bvh))
-      intersect_stream<true>(bvh, rays, hits, n);
-    else
-      intersect_stream<false>(bvh, rays, hits, n);
+    const bool masked = bvh.spheres.mask != nullptr;
+    if (Plan::branch_free_leaves(bvh)) {
+      if (masked)
+        intersect_stream<true, true>(bvh, rays, hits, n);
+      else
+        intersect_stream<true, false>(bvh, rays, hits, n);
+    } else {
+      if (masked)
+        intersect_stream<false, true>(bvh, rays, hits, n);
+      else
+        intersect_stream<false, false>(bvh, rays, hits, n);
+    }
   }
 
-  template <bool kBranchFree>
+  template <bool kBranchFree, bool kMasked>
   static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
     constexpr std::size_t kChunk = Plan::kStreamChunk;
     for (std::size_t begin = 0; begin < n; begin += kChunk) {
       const std::size_t count = n - begin > kChunk ? kChunk : n - begin;
       if (Plan::walks_in_turns(bvh, rays + begin, count)) {
-        intersect_in_turns<kBranchFree>(bvh, rays + begin, hits + begin, count);
+        intersect_in_turns<kBranchFree, kMasked>(bvh, rays + begin, hits + begin, count);
       } else {
         for (std::size_t i = begin; i < begin + count; ++i)
-          hits[i] = Tree::template intersect<kBranchFree>(bvh, rays[i]);
+          hits[i] = Tree::template intersect<kBranchFree, kMasked>(bvh, rays[i]);
       }
     }
   }
 
   static constexpr std::size_t kWalks = Plan::kWalks;
 
-  template <bool kBranchFree>
+  template <bool kBranchFree, bool kMasked>
   static void intersect_in_turns(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
     struct Turn {
       Walk<true> walk;
@@ -64,7 +73,7 @@ struct TreeStream {
       while (next < n) {
         const std::size_t i = next++;
         if (!Plan::ahead(rays[i])) {  // rare: one ray alone, through the general box test
-          hits[i] = Tree::template intersect<kBranchFree>(bvh, rays[i]);
+          hits[i] = Tree::template intersect<kBranchFree, kMasked>(bvh, rays[i]);
           continue;
         }
         t.best = {rays[i].tmax, kNoHit};
@@ -85,7 +94,7 @@ struct TreeStream {
       for (std::size_t k = 0; k < kWalks; ++k) {
         if (!live[k]) continue;
         Turn& t = turns[k];
-        Leaves::template keep_closest<kBranchFree>(bvh, t.setup, t.first, t.best);
+        Leaves::template keep_closest<kBranchFree, kMasked>(bvh, t.setup, t.first, t.best);
         if (t.walk.next_leaf(bvh, t.best.t, t.first)) continue;
         hits[t.ray] = t.best;
         if (!(live[k] = start(t))) --busy;

@@ -13,6 +13,7 @@
 #include "bvh/leaf_test.hpp"
 #include "bvh/walk.hpp"
 #include "dispatch/query_plan.hpp"
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
@@ -28,32 +29,42 @@ struct BvhTraversal {
 
   // A leaf is one aligned batch of slots: its spheres, then never-hit padding. The leaf test's
   // form (see keep_closest) is the tree's: branch-free where leaf boxes overlap.
+  // Trees over spheres with masks read them at the leaves (sphere_lanes.hpp, load_seen); the
+  // walk itself is the same.
   static Hit intersect(const BvhData& bvh, const Ray& ray) {
-    return QueryPlan::branch_free_leaves(bvh) ? intersect<true>(bvh, ray)
-                                              : intersect<false>(bvh, ray);
+    const bool masked = bvh.spheres.mask != nullptr;
+    if (QueryPlan::branch_free_leaves(bvh))
+      return masked ? intersect<true, true>(bvh, ray) : intersect<true, false>(bvh, ray);
+    return masked ? intersect<false, true>(bvh, ray) : intersect<false, false>(bvh, ray);
   }
 
-  template <bool kBranchFree>
+  template <bool kBranchFree, bool kMasked>
   static Hit intersect(const BvhData& bvh, const Ray& ray) {
     typename Batch::RaySetup s;
     Hit best{ray.tmax, kNoHit};
     if (!Batch::setup(ray, s)) return best;
-    Walks::traverse(bvh, ray, best.t, [&](std::size_t first) {
-      Leaves::template keep_closest<kBranchFree>(bvh, s, first, best);
+    Walks::traverse(bvh, ray, best.t, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
+      Leaves::template keep_closest<kBranchFree, kMasked>(bvh, s, first, best);
       return false;
     });
     return best;
   }
 
   static bool occluded(const BvhData& bvh, const Ray& ray) {
+    return bvh.spheres.mask != nullptr ? occluded<true>(bvh, ray) : occluded<false>(bvh, ray);
+  }
+
+  template <bool kMasked>
+  static bool occluded(const BvhData& bvh, const Ray& ray) {
     typename Batch::RaySetup s;
     if (!Batch::setup(ray, s)) return false;
     const Floats tmax(s.tmax);
     bool hit = false;
-    Walks::traverse(bvh, ray, s.tmax, [&](std::size_t first) {
+    Walks::traverse(bvh, ray, s.tmax, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
       Floats t;
       Mask live;
-      hit = Batch::template roots<Skip::kAfterDisc>(s, Batch::load(bvh.spheres, first), t, live) &&
+      const auto spheres = Batch::template load_seen<kMasked>(bvh.spheres, first, s);
+      hit = Batch::template roots<Skip::kAfterDisc>(s, spheres, t, live) &&
             xsimd::any(live & (t > s.tmin) & (t < tmax));
       return hit;
     });

@@ -11,6 +11,7 @@
 #include "bvh/bvh_data.hpp"
 #include "bvh/node.hpp"
 #include "dispatch/query_plan.hpp"
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 
@@ -36,13 +37,13 @@ struct TreeWalk {
     ChildRef ref;
     StackEntry stack[Box::kStackSize];
 
-    void start(const Ray& ray) {
+    SPHRAY_FORCE_INLINE void start(const Ray& ray) {
       s = Box::node_setup(ray);
       top = 0;
       ref = ChildRef::node(0);  // the root
     }
 
-    bool descend(const BvhData& bvh, float best_t, std::size_t& first) {
+    SPHRAY_FORCE_INLINE bool descend(const BvhData& bvh, float best_t, std::size_t& first) {
       while (!ref.is_leaf()) {
         const Node node(bvh.nodes, ref.node_index(), kWidth);
         Floats tnear;
@@ -55,7 +56,7 @@ struct TreeWalk {
       return true;
     }
 
-    bool pop(float best_t) {
+    SPHRAY_FORCE_INLINE bool pop(float best_t) {
       // Entries behind the best hit so far can only hold farther spheres.
       do {
         if (top == 0) return false;
@@ -66,12 +67,12 @@ struct TreeWalk {
     }
 
     // The first leaf after start(), if any.
-    bool first_leaf(const BvhData& bvh, float best_t, std::size_t& first) {
+    SPHRAY_FORCE_INLINE bool first_leaf(const BvhData& bvh, float best_t, std::size_t& first) {
       return descend(bvh, best_t, first) || next_leaf(bvh, best_t, first);
     }
 
     // The leaf after the one last returned, if any.
-    bool next_leaf(const BvhData& bvh, float best_t, std::size_t& first) {
+    SPHRAY_FORCE_INLINE bool next_leaf(const BvhData& bvh, float best_t, std::size_t& first) {
       while (pop(best_t))
         if (descend(bvh, best_t, first)) return true;
       return false;

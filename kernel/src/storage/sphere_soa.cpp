@@ -27,6 +27,7 @@ SphereSoA& SphereSoA::operator=(const SphereSoA& other) {
   reallocate(other.capacity_);
   if (capacity_ != 0) std::memcpy(data_.get(), other.data_.get(), 4 * capacity_ * sizeof(float));
   size_ = other.size_;
+  masks_ = other.masks_;
   return *this;
 }
 
@@ -37,6 +38,7 @@ void SphereSoA::reallocate(std::size_t capacity) {
   if (capacity == 0) {
     data_.reset();
     capacity_ = 0;
+    masks_.clear();
     return;
   }
   std::unique_ptr<float[], AlignedDelete> data(static_cast<float*>(
@@ -46,6 +48,7 @@ void SphereSoA::reallocate(std::size_t capacity) {
     if (size_ != 0) std::memcpy(data.get() + k * capacity, array(k), size_ * sizeof(float));
   data_ = std::move(data);
   capacity_ = capacity;
+  if (!masks_.empty()) masks_.resize(capacity_, kAllBits);
 }
 
 void SphereSoA::reserve(std::size_t n) {
@@ -53,13 +56,23 @@ void SphereSoA::reserve(std::size_t n) {
   if (n > capacity_) reallocate(n);
 }
 
-std::uint32_t SphereSoA::add(Vec3 center, float radius) {
+std::uint32_t SphereSoA::add(Vec3 center, float radius, std::uint32_t mask) {
   if (size_ == kMaxSpheres)
     throw std::length_error("sphray::SphereSoA: more than 2^32 - 1 spheres");
   if (size_ == capacity_) reserve(std::clamp<std::size_t>(2 * capacity_, kPadding, kMaxSpheres));
   const auto id = static_cast<std::uint32_t>(size_++);
   set(id, center, radius);
+  if (mask != kAllBits || !masks_.empty()) set_mask(id, mask);
   return id;
+}
+
+void SphereSoA::set_mask(std::uint32_t id, std::uint32_t mask) {
+  if (id >= size_) throw std::out_of_range("sphray::SphereSoA::set_mask: id out of range");
+  if (masks_.empty()) {
+    if (mask == kAllBits) return;
+    masks_.assign(capacity_, kAllBits);
+  }
+  masks_[id] = mask;
 }
 
 void SphereSoA::set(std::uint32_t id, Vec3 center, float radius) {
@@ -74,12 +87,18 @@ void SphereSoA::clear() {
   for (int k = 0; k < 4; ++k)
     if (size_ != 0) std::fill_n(array(k), size_, 0.0f);
   size_ = 0;
+  masks_.clear();
 }
 
 SphereView SphereSoA::view() const {
   if (capacity_ == 0) return {nullptr, nullptr, nullptr, nullptr, 0, 0};
-  return {array(0), array(1), array(2),
-          array(3), size_,    (size_ + kPadding - 1) / kPadding * kPadding};
+  return {array(0),
+          array(1),
+          array(2),
+          array(3),
+          size_,
+          (size_ + kPadding - 1) / kPadding * kPadding,
+          masks_.empty() ? nullptr : masks_.data()};
 }
 
 }  // namespace sphray
