@@ -8,6 +8,8 @@
 // - A sphere with radius <= 0 or any NaN or infinite field is never hit. A ray with a NaN or
 //   infinite origin or direction component, a zero direction (or one whose squared length
 //   overflows or underflows float), a NaN bound, or !(tmin < tmax) misses everything.
+// - A ray sees sphere i only if SphereView::mask[i] (every bit if the view has no masks) and
+//   ray.mask share a bit; a ray whose mask is 0 misses everything.
 // - Queries never allocate, lock, throw (but for the stream size check) or touch mutable
 //   global state: any number of threads may query the same spheres at once.
 #pragma once
