@@ -1,0 +1,77 @@
+# cpack -G DEB: the packages hold what they should and nothing else, libsphray-dev depends on
+# libsphray0 of the same version, and a program builds and runs against their contents
+# unpacked into a scratch root (dpkg-deb -x: no root rights, no change to the system).
+# Arguments: -DBINARY_DIR=<sphray build> -DWORK_DIR=<scratch> -DVERSION=<project version>
+#            -DLIBDIR=<lib> -DCC=<C compiler> -DEXAMPLE=<docs/examples/c/render_normals.c>
+#            -DEXTRA_FLAGS=<the build's compiler and linker flags>
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  set(output "${out}" PARENT_SCOPE)
+  if(NOT rc EQUAL 0)
+    message("${out}")
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}")
+  endif()
+endfunction()
+
+run(cpack -G DEB --config ${BINARY_DIR}/CPackConfig.cmake -B ${WORK_DIR})
+message("${output}")
+set(lib usr/${LIBDIR})
+# Each package, and the files it must hold (its directories aside, nothing more).
+set(libsphray0 ./${lib}/libsphray.so.0 ./${lib}/libsphray.so.${VERSION})
+set(libsphray-dev ./${lib}/libsphray.so ./${lib}/libsphray.a ./${lib}/pkgconfig/sphray.pc
+    ./${lib}/cmake/sphray/sphrayConfig.cmake ./${lib}/cmake/sphray/sphrayConfigVersion.cmake
+    ./${lib}/cmake/sphray/sphrayTargets.cmake ./${lib}/cmake/sphray/sphrayTargets-CONFIG.cmake
+    ./usr/include/sphray/api.h
+    ./usr/include/sphray/sphray.h ./usr/include/sphray/sphray.hpp ./usr/include/sphray/bvh.hpp
+    ./usr/include/sphray/isa.hpp ./usr/include/sphray/query.hpp ./usr/include/sphray/ray.hpp
+    ./usr/include/sphray/spheres.hpp ./usr/include/sphray/vec3.hpp
+    ./usr/include/sphray/version.hpp)
+set(sphray ./usr/bin/sphray)
+foreach(package libsphray0 libsphray-dev sphray)
+  file(GLOB deb ${WORK_DIR}/${package}_${VERSION}_*.deb)
+  if(NOT deb)
+    if(package STREQUAL "sphray" AND NOT NEED_TOOLS)
+      continue()
+    endif()
+    message(FATAL_ERROR "failed: no ${package}_${VERSION}_*.deb in ${WORK_DIR}")
+  endif()
+  run(dpkg-deb -c ${deb})
+  message("dpkg-deb -c ${package}:\n${output}")
+  # "lrwxrwxrwx root/root 0 date time ./path -> target": the path, directories left out.
+  string(REGEX MATCHALL "\\./[^ \n]*[^/ \n](\n| ->)" listed "${output}")
+  list(TRANSFORM listed REPLACE "(\n| ->)$" "")
+  list(TRANSFORM listed REPLACE "sphrayTargets-[a-z]+\\.cmake$" "sphrayTargets-CONFIG.cmake")
+  list(SORT listed)
+  set(expected ${${package}})
+  list(SORT expected)
+  if(NOT listed STREQUAL expected)
+    message(FATAL_ERROR "failed: ${package} holds\n  ${listed}\nexpected\n  ${expected}")
+  endif()
+  run(dpkg-deb -f ${deb} Package Version Depends)
+  message("${output}")
+  if(package STREQUAL "libsphray-dev" AND NOT output MATCHES "libsphray0 \\(= ${VERSION}\\)")
+    message(FATAL_ERROR "failed: libsphray-dev does not depend on libsphray0 (= ${VERSION})")
+  endif()
+  if(package STREQUAL "libsphray0" AND NOT output MATCHES "libstdc\\+\\+6")
+    message(FATAL_ERROR "failed: libsphray0 does not depend on libstdc++6")
+  endif()
+  run(dpkg-deb -x ${deb} ${WORK_DIR}/root)
+endforeach()
+
+# The unpacked packages work as installed ones: the C example builds with their sphray.pc.
+execute_process(COMMAND ${CMAKE_COMMAND} -E env PKG_CONFIG_PATH=${WORK_DIR}/root/${lib}/pkgconfig
+                        pkg-config --cflags --libs sphray
+                OUTPUT_VARIABLE pc_flags OUTPUT_STRIP_TRAILING_WHITESPACE)
+separate_arguments(pc_flags UNIX_COMMAND "${pc_flags}")
+separate_arguments(extra UNIX_COMMAND "${EXTRA_FLAGS}")
+run(${CC} -std=c99 -O2 ${extra} ${EXAMPLE} ${pc_flags} -lm -Wl,-rpath,${WORK_DIR}/root/${lib}
+    -o ${WORK_DIR}/render_normals)
+run(${WORK_DIR}/render_normals ${WORK_DIR}/image.ppm 32 18)
+message("${output}")
+if(NOT output MATCHES "sphray ${VERSION} on")
+  message(FATAL_ERROR "failed: the program built from the packages did not run")
+endif()
+message("packages checked: contents, dependencies, and a program built from them")
