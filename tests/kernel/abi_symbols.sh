@@ -35,5 +35,5 @@ internal='^sphray::(detail|c_api|sse4_2|avx2|avx512|neon)::'
 [ -s "$tmp/cpp_extra" ] && report "C++ symbols outside the public sphray:: API:" "$tmp/cpp_extra"
 
 echo "$(wc -l <"$tmp/all") exported symbols: $(wc -l <"$tmp/c") sphray_ C functions" \
-     "(all $(wc -l <"$tmp/declared") of $(basename "$header")), $(wc -l <"$tmp/cpp") sphray:: C++"
+     "($(wc -l <"$tmp/declared") declared in $(basename "$header")), $(wc -l <"$tmp/cpp") sphray:: C++"
 exit "$status"

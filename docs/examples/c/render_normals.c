@@ -16,23 +16,34 @@ typedef struct vec3 {
   float x, y, z;
 } vec3;
 
-static vec3 add(vec3 a, vec3 b) { return (vec3){a.x + b.x, a.y + b.y, a.z + b.z}; }
-static vec3 sub(vec3 a, vec3 b) { return (vec3){a.x - b.x, a.y - b.y, a.z - b.z}; }
-static vec3 scale(float s, vec3 v) { return (vec3){s * v.x, s * v.y, s * v.z}; }
-static vec3 divide(vec3 v, float s) { return (vec3){v.x / s, v.y / s, v.z / s}; }
-static float dot(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static vec3 add(vec3 a, vec3 b) {
+  return (vec3){a.x + b.x, a.y + b.y, a.z + b.z};
+}
+static vec3 sub(vec3 a, vec3 b) {
+  return (vec3){a.x - b.x, a.y - b.y, a.z - b.z};
+}
+static vec3 scale(float s, vec3 v) {
+  return (vec3){s * v.x, s * v.y, s * v.z};
+}
+static vec3 divide(vec3 v, float s) {
+  return (vec3){v.x / s, v.y / s, v.z / s};
+}
+static float dot(vec3 a, vec3 b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 static vec3 cross(vec3 a, vec3 b) {
   return (vec3){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-static vec3 normalize(vec3 v) { return divide(v, sqrtf(dot(v, v))); }
+static vec3 normalize(vec3 v) {
+  return divide(v, sqrtf(dot(v, v)));
+}
 
 /* The book's pinhole camera: rays from lookfrom through a viewport at distance 1. */
 typedef struct camera {
   vec3 origin, upper_left, pixel_du, pixel_dv;
 } camera;
 
-static camera make_camera(vec3 lookfrom, vec3 lookat, vec3 vup, float vfov, int width,
-                          int height) {
+static camera make_camera(vec3 lookfrom, vec3 lookat, vec3 vup, float vfov, int width, int height) {
   const float theta = vfov * 3.14159265358979323846f / 180.0f;
   const float viewport_height = 2.0f * tanf(theta / 2.0f);
   const float viewport_width = viewport_height * (float)width / (float)height;
@@ -93,8 +104,8 @@ int main(int argc, char** argv) {
   int status = sphray_scene_create(&cx, &cy, &cz, &r, 1, 0, SPHRAY_ACCEL_AUTO, &scene);
   if (status != SPHRAY_OK) return fail("sphray_scene_create", status);
 
-  const camera cam = make_camera((vec3){0, 0, 0}, (vec3){0, 0, -1}, (vec3){0, 1, 0}, 90.0f,
-                                 width, height);
+  const camera cam =
+      make_camera((vec3){0, 0, 0}, (vec3){0, 0, -1}, (vec3){0, 1, 0}, 90.0f, width, height);
   sphray_ray* rays = malloc(n * sizeof *rays);
   sphray_hit* hits = malloc(n * sizeof *hits);
   sphray_hit_surface* surfaces = malloc(n * sizeof *surfaces);
