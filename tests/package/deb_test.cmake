@@ -4,6 +4,7 @@
 # Arguments: -DBINARY_DIR=<sphray build> -DWORK_DIR=<scratch> -DVERSION=<project version>
 #            -DLIBDIR=<lib> -DCC=<C compiler> -DEXAMPLE=<docs/examples/c/render_normals.c>
 #            -DEXTRA_FLAGS=<the build's compiler and linker flags>
+cmake_policy(SET CMP0054 NEW)  # "quoted" strings in if() are strings
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
 
@@ -20,8 +21,8 @@ run(cpack -G DEB --config ${BINARY_DIR}/CPackConfig.cmake -B ${WORK_DIR})
 message("${output}")
 set(lib usr/${LIBDIR})
 # Each package, and the files it must hold (its directories aside, nothing more).
-set(libsphray0 ./${lib}/libsphray.so.0 ./${lib}/libsphray.so.${VERSION})
-set(libsphray-dev ./${lib}/libsphray.so ./${lib}/libsphray.a ./${lib}/pkgconfig/sphray.pc
+set(files_libsphray0 ./${lib}/libsphray.so.0 ./${lib}/libsphray.so.${VERSION})
+set(files_libsphray-dev ./${lib}/libsphray.so ./${lib}/libsphray.a ./${lib}/pkgconfig/sphray.pc
     ./${lib}/cmake/sphray/sphrayConfig.cmake ./${lib}/cmake/sphray/sphrayConfigVersion.cmake
     ./${lib}/cmake/sphray/sphrayTargets.cmake ./${lib}/cmake/sphray/sphrayTargets-CONFIG.cmake
     ./usr/include/sphray/api.h
@@ -29,7 +30,7 @@ set(libsphray-dev ./${lib}/libsphray.so ./${lib}/libsphray.a ./${lib}/pkgconfig/
     ./usr/include/sphray/isa.hpp ./usr/include/sphray/query.hpp ./usr/include/sphray/ray.hpp
     ./usr/include/sphray/spheres.hpp ./usr/include/sphray/vec3.hpp
     ./usr/include/sphray/version.hpp)
-set(sphray ./usr/bin/sphray)
+set(files_sphray ./usr/bin/sphray)
 foreach(package libsphray0 libsphray-dev sphray)
   file(GLOB deb ${WORK_DIR}/${package}_${VERSION}_*.deb)
   if(NOT deb)
@@ -45,7 +46,7 @@ foreach(package libsphray0 libsphray-dev sphray)
   list(TRANSFORM listed REPLACE "(\n| ->)$" "")
   list(TRANSFORM listed REPLACE "sphrayTargets-[a-z]+\\.cmake$" "sphrayTargets-CONFIG.cmake")
   list(SORT listed)
-  set(expected ${${package}})
+  set(expected ${files_${package}})
   list(SORT expected)
   if(NOT listed STREQUAL expected)
     message(FATAL_ERROR "failed: ${package} holds\n  ${listed}\nexpected\n  ${expected}")
