@@ -146,7 +146,7 @@ TEST_P(CApiAgreement, OccludedMatchesTheCppApi) {
 
 TEST_P(CApiAgreement, ParallelCallsMatchTheSerialOnes) {
   // A tenth of the rays: still 25 chunks of work to share.
-  const std::size_t n = std::min<std::size_t>(rays_.size(), 100'000);
+  const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(100'000));
   std::vector<sphray_hit> serial(n), parallel(n);
   ASSERT_EQ(sphray_intersect(scene_, rays_.data(), serial.data(), n), SPHRAY_OK);
   std::vector<unsigned char> occluded(n), occluded_parallel(n);
@@ -163,7 +163,7 @@ TEST_P(CApiAgreement, ParallelCallsMatchTheSerialOnes) {
 }
 
 TEST_P(CApiAgreement, SurfaceAndSpawnMatchTheCppApi) {
-  const std::size_t n = std::min<std::size_t>(rays_.size(), 100'000);
+  const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(100'000));
   std::vector<sphray_hit> hits(n);
   std::vector<sphray_hit_surface> surfaces(n);
   ASSERT_EQ(sphray_intersect(scene_, rays_.data(), hits.data(), n), SPHRAY_OK);
@@ -207,7 +207,7 @@ TEST_P(CApiAgreement, RefitMatchesTheCppApi) {
                                caller_.size(), sizeof(CallerSphere)),
             SPHRAY_OK)
       << sphray_last_error();
-  const std::size_t n = std::min<std::size_t>(rays_.size(), 200'000);
+  const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(200'000));
   std::vector<sphray_hit> hits(n);
   ASSERT_EQ(sphray_intersect(scene_, rays_.data(), hits.data(), n), SPHRAY_OK);
   for (std::size_t i = 0; i < n; ++i) {
