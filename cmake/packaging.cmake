@@ -17,6 +17,10 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 # Each package's library dependencies (libtbb12, libstdc++6, libc6) from dpkg-shlibdeps.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_SECTION libs)
+# libsphray0's shlibs file (what dpkg-shlibdeps of a program linked against it will require) and
+# its ldconfig trigger, as Debian's policy wants of a shared library package.
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS_POLICY ">=")
 
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME libsphray0)
 set(CPACK_COMPONENT_RUNTIME_DESCRIPTION

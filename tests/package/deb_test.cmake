@@ -1,6 +1,11 @@
 # cpack -G DEB: the packages hold what they should and nothing else, libsphray-dev depends on
-# libsphray0 of the same version, and a program builds and runs against their contents
-# unpacked into a scratch root (dpkg-deb -x: no root rights, no change to the system).
+# libsphray0 of the same version, they install into a scratch root with dpkg (its own package
+# database there; the host's libraries satisfy the dependencies, hence --force-depends), a
+# program builds and runs against what they installed, and they remove cleanly, leaving no file.
+# Nothing outside the scratch root changes: the maintainer scripts run outside a chroot
+# (--force-script-chrootless), and the ldconfig that libsphray0's run is a stand-in that only
+# records the call. dpkg needs root rights to set the files' owners:
+# run as another user, the packages are unpacked with dpkg-deb -x instead, and not removed.
 # Arguments: -DBINARY_DIR=<sphray build> -DWORK_DIR=<scratch> -DVERSION=<project version>
 #            -DLIBDIR=<lib> -DCC=<C compiler> -DEXAMPLE=<docs/examples/c/render_normals.c>
 #            -DEXTRA_FLAGS=<the build's compiler and linker flags>
@@ -59,8 +64,26 @@ foreach(package libsphray0 libsphray-dev sphray)
   if(package STREQUAL "libsphray0" AND NOT output MATCHES "libstdc\\+\\+6")
     message(FATAL_ERROR "failed: libsphray0 does not depend on libstdc++6")
   endif()
-  run(dpkg-deb -x ${deb} ${WORK_DIR}/root)
+  list(APPEND debs ${deb})
+  list(APPEND packages ${package})
 endforeach()
+
+set(root ${WORK_DIR}/root)
+execute_process(COMMAND id -u OUTPUT_VARIABLE uid OUTPUT_STRIP_TRAILING_WHITESPACE)
+file(WRITE ${WORK_DIR}/bin/ldconfig "#!/bin/sh\necho \"$@\" >> ${WORK_DIR}/ldconfig.calls\n")
+file(CHMOD ${WORK_DIR}/bin/ldconfig PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE)
+set(dpkg ${CMAKE_COMMAND} -E env "PATH=${WORK_DIR}/bin:$ENV{PATH}" dpkg --root=${root}
+    --force-not-root --force-script-chrootless)
+if(uid STREQUAL "0")
+  file(MAKE_DIRECTORY ${root}/var/lib/dpkg/info ${root}/var/lib/dpkg/updates)
+  file(TOUCH ${root}/var/lib/dpkg/status ${root}/var/lib/dpkg/available)
+  run(${dpkg} --force-depends -i ${debs})
+  message("dpkg -i into ${root}:\n${output}")
+else()
+  foreach(deb IN LISTS debs)
+    run(dpkg-deb -x ${deb} ${root})
+  endforeach()
+endif()
 
 # The unpacked packages work as installed ones: the C example builds with their sphray.pc.
 execute_process(COMMAND ${CMAKE_COMMAND} -E env PKG_CONFIG_PATH=${WORK_DIR}/root/${lib}/pkgconfig
@@ -74,5 +97,17 @@ run(${WORK_DIR}/render_normals ${WORK_DIR}/image.ppm 32 18)
 message("${output}")
 if(NOT output MATCHES "sphray ${VERSION} on")
   message(FATAL_ERROR "failed: the program built from the packages did not run")
+endif()
+if(uid STREQUAL "0")
+  run(${dpkg} -r ${packages})
+  message("dpkg -r:\n${output}")
+  file(GLOB_RECURSE left LIST_DIRECTORIES false ${root}/usr/*)
+  if(left)
+    message(FATAL_ERROR "failed: files left after dpkg -r: ${left}")
+  endif()
+  message("removed cleanly: no file left under ${root}/usr")
+  if(NOT EXISTS ${WORK_DIR}/ldconfig.calls)
+    message(FATAL_ERROR "failed: libsphray0's scripts never ran ldconfig")
+  endif()
 endif()
 message("packages checked: contents, dependencies, and a program built from them")
