@@ -89,11 +89,15 @@ class TileTracer {
     std::array<Ray, kTilePixels> rays;
     std::array<Hit, kTilePixels> hits;
     std::array<Vec3, kTilePixels> throughput;
+    std::array<PathRandom, kTilePixels> random;   // each path's own stream, drawn bounce by bounce
     std::array<std::uint16_t, kTilePixels> slot;  // the path's pixel within the tile
     std::array<Vec3, kTilePixels> radiance{};
     const std::size_t n = tile.pixels();
     for (std::size_t i = 0; i < n; ++i) {
-      rays[i] = camera_ray(tile, i, sample);
+      const int x = tile.x0 + static_cast<int>(i) % tile.width;
+      const int y = tile.y0 + static_cast<int>(i) / tile.width;
+      random[i] = PathRandom(options_.seed, pixel_index(x, y), sample);
+      rays[i] = camera_ray(x, y, random[i]);
       throughput[i] = {1, 1, 1};
       slot[i] = static_cast<std::uint16_t>(i);
     }
@@ -116,11 +120,10 @@ class TileTracer {
           continue;
         }
         const Surface surface = queries_.surface(ray, hits[k]);
-        PathRandom random(options_.seed, pixel_index(tile, s), sample,
-                          static_cast<std::uint32_t>(bounce) + 1);
-        const auto next = scatter(material_of(scene_, hits[k].id), ray.dir, surface, random);
+        const auto next = scatter(material_of(scene_, hits[k].id), ray.dir, surface, random[k]);
         if (!next) continue;  // absorbed
         throughput[kept] = throughput[k] * next->attenuation;
+        random[kept] = random[k];
         rays[kept] = spawn(surface, next->direction);
         slot[kept] = s;
         ++kept;
@@ -137,20 +140,16 @@ class TileTracer {
   }
 
  private:
-  std::uint64_t pixel_index(const Tile& tile, std::size_t i) const {
-    const auto x = static_cast<std::uint64_t>(tile.x0 + static_cast<int>(i) % tile.width);
-    const auto y = static_cast<std::uint64_t>(tile.y0 + static_cast<int>(i) / tile.width);
-    return y * static_cast<std::uint64_t>(options_.width) + x;
+  std::uint64_t pixel_index(int x, int y) const {
+    return static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(options_.width) +
+           static_cast<std::uint64_t>(x);
   }
 
   // A point drawn uniformly in the pixel, as the book's sample_square does, and one on the
-  // lens when the camera has defocus blur.
-  Ray camera_ray(const Tile& tile, std::size_t i, std::uint32_t sample) const {
-    PathRandom random(options_.seed, pixel_index(tile, i), sample, 0);
-    const float jx = random.uniform();
-    const float jy = random.uniform();
-    const float px = static_cast<float>(tile.x0 + static_cast<int>(i) % tile.width) + jx;
-    const float py = static_cast<float>(tile.y0 + static_cast<int>(i) / tile.width) + jy;
+  // lens when the camera has defocus blur: the path's first draws.
+  Ray camera_ray(int x, int y, PathRandom& random) const {
+    const float px = static_cast<float>(x) + random.uniform();
+    const float py = static_cast<float>(y) + random.uniform();
     if (!camera_.has_defocus()) return camera_.ray(px, py);
     const Vec3 lens = random.in_unit_disk();
     return camera_.ray(px, py, lens.x, lens.y);

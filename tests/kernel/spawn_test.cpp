@@ -4,7 +4,10 @@
 // instruction set and on the BVH. The naive offsets (tmin = 0.001 from ray.at(t), as Ray Tracing
 // in One Weekend does, and ray.at(t) + 1e-4 n) run on the same hit points beside it: they must
 // fail somewhere in this range, or the range proves nothing. Rates go to docs/robustness.md.
+#include <bit>
+#include <cfloat>
 #include <cinttypes>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <numbers>
@@ -276,6 +279,30 @@ TEST(Spawn, OffsetIsToTheSideTheDirectionLeavesBy) {
   // below the 1e-4 an ad-hoc offset would add.
   EXPECT_LT(out.z - surf.point.z, 2e-5f);
   EXPECT_LT(surf.point.z - in.z, 2e-5f);
+}
+
+// offset_origin() moves the point by d along the normal, then one float further the way it
+// moved (pbrt-v4's NextFloatUp/Down). That step is bit arithmetic of its own: here it is checked
+// against std::nextafter on the values where stepping bits is easy to get wrong: zeros of both
+// signs, denormals, the largest finite float and infinities, moving either way.
+TEST(Spawn, RoundingAwayAgreesWithNextafter) {
+  const float values[] = {0.0f,  -0.0f,  0x1p-149f, -0x1p-149f, 0x1p-126f, -0x1p-126f, 1.0f,
+                          -1.0f, 3.5e7f, -3.5e7f,   FLT_MAX,    -FLT_MAX,  INFINITY,   -INFINITY};
+  for (float x : values) {
+    for (float side : {1.0f, -1.0f}) {
+      // Normal +z and an error bound of the smallest denormal along z only: d is that denormal,
+      // x and y do not move (an offset of zero is not stepped), z moves by side * d.
+      const Surface surf{{x, x, x}, {0, 0, 1}, true, {0, 0, 0x1p-149f}};
+      const Vec3 o = offset_origin(surf, {0, 0, side});
+      const float moved = x + side * 0x1p-149f;
+      const float expected = std::nextafter(moved, side * INFINITY);
+      const auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f); };
+      EXPECT_EQ(bits(o.z), bits(expected)) << "x = " << x << ", side = " << side;
+      const float unmoved = x + std::copysign(0.0f, side);  // x plus a zero offset of side's sign
+      EXPECT_EQ(bits(o.x), bits(unmoved)) << "x = " << x << ", side = " << side;
+      EXPECT_EQ(bits(o.y), bits(unmoved)) << "x = " << x << ", side = " << side;
+    }
+  }
 }
 
 }  // namespace

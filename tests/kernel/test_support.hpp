@@ -118,6 +118,44 @@ inline std::vector<Ray> random_rays(std::size_t n, std::mt19937& rng) {
   return rays;
 }
 
+// Scenes of the shapes that stress the queries beyond the closest hit: random; clustered (every
+// sphere overlapping many); nested (concentric shells); identical (one sphere many times); radii
+// from 1e-3 to 10; and poisoned (every third sphere invalid: radius 0 or negative, a NaN or
+// infinite field).
+enum class Shape { random, clustered, nested, identical, mixed_radii, poisoned };
+
+inline SphereSoA make_scene(Shape shape, std::size_t n, std::mt19937& rng) {
+  SphereSoA s;
+  for (std::size_t i = 0; i < n; ++i) {
+    switch (shape) {
+      case Shape::random:
+        s.add(test::random_in_box(rng, 10.0f), test::uniform(rng, 0.2f, 1.5f));
+        break;
+      case Shape::clustered:
+        s.add(test::random_in_box(rng, 1.0f), test::uniform(rng, 0.5f, 2.0f));
+        break;
+      case Shape::nested:
+        s.add({1, 2, 3}, 0.5f + 0.25f * static_cast<float>(i));
+        break;
+      case Shape::identical:
+        s.add({-1, 0.5f, 2}, 3.0f);
+        break;
+      case Shape::mixed_radii:
+        s.add(test::random_in_box(rng, 10.0f), std::pow(10.0f, test::uniform(rng, -3.0f, 1.0f)));
+        break;
+      case Shape::poisoned: {
+        Vec3 c = test::random_in_box(rng, 10.0f);
+        float r = test::uniform(rng, 0.2f, 1.5f);
+        const float bad[] = {0.0f, -1.0f, NAN, INFINITY};
+        if (i % 3 == 0) (i % 2 == 0 ? r : c.y) = bad[(i / 3) % 4];
+        s.add(c, r);
+        break;
+      }
+    }
+  }
+  return s;
+}
+
 // Every kernel this machine runs, by instruction set (scalar included).
 inline std::vector<const EntryTable*> runnable_kernels() {
   std::vector<const EntryTable*> kernels;
@@ -128,6 +166,25 @@ inline std::vector<const EntryTable*> runnable_kernels() {
 
 inline std::string name_of(const EntryTable* k) {
   return std::string(isa_name(k->isa));
+}
+
+// Every shape at sizes from 0 to 3,000 spheres, each with a tree per kernel of kernels:
+// visit(view, trees, sphere count).
+template <class Visit>
+void for_each_query_scene(std::mt19937& rng, const std::vector<const EntryTable*>& kernels,
+                          Visit&& visit) {
+  const Shape shapes[] = {Shape::random,    Shape::clustered,   Shape::nested,
+                          Shape::identical, Shape::mixed_radii, Shape::poisoned};
+  const std::size_t sizes[] = {0, 1, 3, 17, 40, 300, 3000};
+  for (const Shape shape : shapes) {
+    for (const std::size_t n : sizes) {
+      const SphereSoA scene = make_scene(shape, n, rng);
+      std::vector<SphereBVH> trees;
+      for (const EntryTable* k : kernels)
+        trees.emplace_back(scene.view(), k->isa);
+      visit(scene.view(), trees, n);
+    }
+  }
 }
 
 }  // namespace sphray::test

@@ -38,7 +38,7 @@ TEST(Dielectric, IndexOneLeavesEveryRayUndeflected) {
       // Towards the surface from the side front_face names.
       const Vec3 incoming{sine, front ? -cosine : cosine, 0.25f * sine};
       for (std::uint32_t draw = 0; draw < 50; ++draw) {
-        PathRandom random(7, draw, 0, 1);
+        PathRandom random(7, draw, 0);
         const auto s = scatter(m, incoming, surface_up(front), random);
         ASSERT_TRUE(s.has_value());
         EXPECT_EQ(s->attenuation, (Vec3{1, 1, 1}));
@@ -57,7 +57,7 @@ TEST(Dielectric, TotalInternalReflectionWhereSnellSays) {
   const float past = critical * 1.001f;
   const Vec3 beyond{past, std::sqrt(1.0f - past * past), 0};
   for (std::uint32_t draw = 0; draw < 200; ++draw) {
-    PathRandom random(3, draw, 0, 1);
+    PathRandom random(3, draw, 0);
     const auto s = scatter(m, beyond, surface_up(false), random);
     ASSERT_TRUE(s.has_value());
     expect_direction(s->direction, {beyond.x, -beyond.y, 0});
@@ -69,7 +69,7 @@ TEST(Dielectric, TotalInternalReflectionWhereSnellSays) {
                    static_cast<float>(std::sqrt(1 - out_sine * out_sine)), 0};
   int refracted = 0;
   for (std::uint32_t draw = 0; draw < 200; ++draw) {
-    PathRandom random(3, draw, 0, 1);
+    PathRandom random(3, draw, 0);
     const auto s = scatter(m, within, surface_up(false), random);
     ASSERT_TRUE(s.has_value());
     if (s->direction.y > 0.0f) {
@@ -90,7 +90,7 @@ TEST(Dielectric, ReflectsFourPercentAtNormalIncidence) {
   constexpr int kDraws = 10000;
   int reflected = 0;
   for (std::uint32_t draw = 0; draw < kDraws; ++draw) {
-    PathRandom random(11, draw, 0, 1);
+    PathRandom random(11, draw, 0);
     const auto s = scatter(m, {0, -1, 0}, surface_up(true), random);
     ASSERT_TRUE(s.has_value());
     if (s->direction.y > 0.0f) {
@@ -105,7 +105,7 @@ TEST(Dielectric, ReflectsFourPercentAtNormalIncidence) {
 
 TEST(Metal, MirrorWithoutFuzzReflectsByTheMirrorLaw) {
   const Material m{MaterialKind::metal, {0.9f, 0.8f, 0.7f}, 0.0f};
-  PathRandom random(1, 2, 3, 4);
+  PathRandom random(1, 2, 3);
   const auto s = scatter(m, {3, -4, 1}, surface_up(true), random);
   ASSERT_TRUE(s.has_value());
   EXPECT_EQ(s->attenuation, (Vec3{0.9f, 0.8f, 0.7f}));
@@ -119,13 +119,13 @@ TEST(Metal, FuzzStaysWithinItsBallAndBelowTheSurfaceIsAbsorbed) {
   const Vec3 mirror = unit({1, 1, 0});
   int absorbed = 0;
   for (std::uint32_t draw = 0; draw < 1000; ++draw) {
-    PathRandom random(5, draw, 0, 1);
+    PathRandom random(5, draw, 0);
     const auto s = scatter(m, {1, -1, 0}, surface_up(true), random);
     ASSERT_TRUE(s.has_value());
     EXPECT_LE(length(s->direction - mirror), 0.3f + 1e-6f);
   }
   for (std::uint32_t draw = 0; draw < 1000; ++draw) {
-    PathRandom random(5, draw, 0, 1);
+    PathRandom random(5, draw, 0);
     const auto s = scatter(m, {1, -0.01f, 0}, surface_up(true), random);
     if (!s) {
       ++absorbed;
@@ -140,7 +140,7 @@ TEST(Lambertian, ScattersIntoTheHemisphereOfTheSideHit) {
   const Material m{MaterialKind::lambertian, {0.5f, 0.25f, 1}};
   for (bool front : {true, false}) {
     for (std::uint32_t draw = 0; draw < 1000; ++draw) {
-      PathRandom random(9, draw, 0, 1);
+      PathRandom random(9, draw, 0);
       const auto s = scatter(m, {0.3f, front ? -1.0f : 1.0f, 0}, surface_up(front), random);
       ASSERT_TRUE(s.has_value());
       EXPECT_EQ(s->attenuation, (Vec3{0.5f, 0.25f, 1}));

@@ -3,10 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <span>
+#include <stdexcept>
 
+#include "all_hits/hit_list.hpp"
 #include "brute/validity.hpp"
+#include "bvh/bvh_data.hpp"
 #include "bvh/scalar_walk.hpp"
 #include "dispatch/entry_table.hpp"
+#include "point/point_queries_common.hpp"
+#include "sphray/all_hits.hpp"
 #include "sphray/query.hpp"
 
 namespace sphray::detail {
@@ -23,10 +29,13 @@ namespace {
 using detail::valid_ray;
 using detail::valid_sphere;
 
-// The ray parameter at which ray enters the sphere, or leaves it if it starts inside, when that
-// lies in (tmin, tmax). The same operations in the same order as SphereLanes::roots
-// (brute/sphere_lanes.hpp), which explains the method: every instruction set returns these bits.
-std::optional<float> sphere_hit(Vec3 center, float radius, const Ray& ray, float tmax) {
+// The sphere's two roots along ray, near <= far, if the line meets it. The same operations in
+// the same order as SphereLanes::near_far (brute/sphere_lanes.hpp), which explains the method:
+// every instruction set returns these bits.
+struct Roots {
+  float near, far;
+};
+std::optional<Roots> sphere_roots(Vec3 center, float radius, const Ray& ray) {
   if (!valid_sphere(center, radius)) return std::nullopt;
   const Vec3 d = ray.dir;
   const Vec3 g = center - ray.origin;
@@ -42,11 +51,27 @@ std::optional<float> sphere_hit(Vec3 center, float radius, const Ray& ray, float
   const float t0 = c / q;
   const float t1 = q * inv_a;
   // t0 is NaN only for 0/0 (origin on the sphere, tangent); both roots are then t1.
-  const float near = t0 < t1 ? t0 : t1;
-  const float far = t0 > t1 ? t0 : t1;
-  const float t = near > ray.tmin ? near : far;
+  return Roots{t0 < t1 ? t0 : t1, t0 > t1 ? t0 : t1};
+}
+
+// The ray parameter at which ray enters the sphere, or leaves it if it starts inside, when that
+// lies in (tmin, tmax).
+std::optional<float> sphere_hit(Vec3 center, float radius, const Ray& ray, float tmax) {
+  const auto roots = sphere_roots(center, radius, ray);
+  if (!roots) return std::nullopt;
+  const float t = roots->near > ray.tmin ? roots->near : roots->far;
   if (t > ray.tmin && t < tmax) return t;
   return std::nullopt;
+}
+
+// Both crossings of sphere id that lie in (tmin, tmax), into list.
+void add_crossings(Vec3 center, float radius, std::uint32_t id, const Ray& ray,
+                   detail::SPHRAY_ISA_NAMESPACE::HitList& list) {
+  const auto roots = sphere_roots(center, radius, ray);
+  if (!roots) return;
+  const auto inside = [&](float t) { return t > ray.tmin && t < ray.tmax; };
+  if (inside(roots->near)) list.add(roots->near, id, false);
+  if (inside(roots->far)) list.add(roots->far, id, true);
 }
 
 Vec3 center_of(const SphereView& v, std::size_t i) {
@@ -77,10 +102,42 @@ bool occluded(SphereView spheres, const Ray& ray) {
   return false;
 }
 
+std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out,
+                          std::span<bool> exits) {
+  if (!exits.empty() && exits.size() != out.size())
+    throw std::length_error("sphray::intersect_all: hits and exits differ in size");
+  detail::SPHRAY_ISA_NAMESPACE::HitList list(out.data(), exits.empty() ? nullptr : exits.data(),
+                                             out.size());
+  if (!valid_ray(ray)) return 0;
+  for (std::size_t i = 0; i < id_count(spheres); ++i)
+    add_crossings(center_of(spheres, i), spheres.radius[i], static_cast<std::uint32_t>(i), ray,
+                  list);
+  return list.total();
+}
+
 }  // namespace sphray::scalar
 
 namespace sphray::detail {
 namespace {
+std::size_t scalar_intersect_all(SphereView spheres, const Ray& ray, Hit* hits, bool* exits,
+                                 std::size_t capacity) {
+  return scalar::intersect_all(spheres, ray, std::span(hits, capacity),
+                               std::span(exits, exits == nullptr ? 0 : capacity));
+}
+
+// Every crossing does not depend on the order spheres are visited in: the tree's slots, each
+// with its id, one at a time (padding slots have radius 0 and are never hit).
+std::size_t scalar_bvh_intersect_all(const BvhData& bvh, const Ray& ray, Hit* hits, bool* exits,
+                                     std::size_t capacity) {
+  SPHRAY_ISA_NAMESPACE::HitList list(hits, exits, capacity);
+  if (!valid_ray(ray)) return 0;
+  const SphereView& slots = bvh.spheres;
+  for (std::size_t i = 0; i < slots.count; ++i)
+    scalar::add_crossings({slots.cx[i], slots.cy[i], slots.cz[i]}, slots.radius[i], bvh.ids[i], ray,
+                          list);
+  return list.total();
+}
+
 void scalar_stream(SphereView spheres, const Ray* rays, Hit* hits, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i)
     hits[i] = scalar::intersect(spheres, rays[i]);
@@ -95,5 +152,11 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              kScalarBvhWidth,
                                              &scalar_bvh_intersect,
                                              &scalar_bvh_occluded,
-                                             &scalar_bvh_intersect_stream};
+                                             &scalar_bvh_intersect_stream,
+                                             &scalar_intersect_all,
+                                             &scalar_bvh_intersect_all,
+                                             &scalar_nearest,
+                                             &scalar_overlapping,
+                                             &scalar_bvh_nearest,
+                                             &scalar_bvh_overlapping};
 }  // namespace sphray::detail

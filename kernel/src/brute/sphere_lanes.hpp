@@ -114,6 +114,17 @@ struct SphereLanes {
   // scalar reference (scalar.cpp), make the same roundings and return the same bits.
   template <Skip kSkip = Skip::kPreTest>
   static bool roots(const RaySetup& s, const Spheres& sp, Floats& t, Mask& live) {
+    Floats near, far;
+    if (!near_far<kSkip>(s, sp, near, far, live)) return false;
+    t = xsimd::select(near > s.tmin, near, far);
+    return true;
+  }
+
+  // Both roots per lane, near <= far, for the queries that want every crossing (all_hits/):
+  // the same operations as roots(), which takes one of them.
+  template <Skip kSkip = Skip::kPreTest>
+  static bool near_far(const RaySetup& s, const Spheres& sp, Floats& near, Floats& far,
+                       Mask& live) {
     const Floats gx = sp.cx - s.ox, gy = sp.cy - s.oy, gz = sp.cz - s.oz;
     if (kSkip == Skip::kPreTest && !may_hit(s, sp, gx, gy, gz)) return false;
     const Floats b = gx * s.dx + (gy * s.dy + gz * s.dz);
@@ -130,8 +141,8 @@ struct SphereLanes {
     const Floats t0 = c / q, t1 = q * s.inv_a;
     // t0 is NaN only for 0/0 (origin on the sphere, tangent), and then both roots are t1.
     using O = Ordered<A>;
-    const Floats near = O::less_or_second(t0, t1), far = O::greater_or_second(t0, t1);
-    t = xsimd::select(near > s.tmin, near, far);
+    near = O::less_or_second(t0, t1);
+    far = O::greater_or_second(t0, t1);
     return true;
   }
 

@@ -4,12 +4,14 @@
 
 #include <cstddef>
 
+#include "all_hits/all_hits.hpp"
 #include "brute/brute_force.hpp"
 #include "bvh/scalar_walk.hpp"
 #include "bvh/stream.hpp"
 #include "bvh/traverse.hpp"
 #include "dispatch/entry_table.hpp"
 #include "dispatch/query_plan.hpp"
+#include "point/point_queries.hpp"
 #include "simd/isa_namespace.hpp"
 #include "sphray/query.hpp"
 
@@ -49,6 +51,32 @@ struct EntryPoints {
     if (QueryPlan::scalar(bvh.count)) return scalar_bvh_intersect_stream(bvh, rays, hits, n);
     TreeStream<A>::intersect_stream(bvh, rays, hits, n);
   }
+
+  // Every crossing: the SIMD path whatever the size, since it returns the scalar reference's
+  // bits (the same roots) and a handful of spheres costs it no more than the scalar loop.
+  static std::size_t intersect_all(SphereView v, const Ray& ray, Hit* hits, bool* exits,
+                                   std::size_t capacity) {
+    HitList list(hits, exits, capacity);
+    return AllHits<A>::intersect_all(v, ray, list);
+  }
+  static std::size_t bvh_intersect_all(const BvhData& bvh, const Ray& ray, Hit* hits, bool* exits,
+                                       std::size_t capacity) {
+    HitList list(hits, exits, capacity);
+    return AllHits<A>::intersect_all(bvh, ray, list);
+  }
+
+  using Points = PointQueries<A>;
+  static Hit nearest(SphereView v, Vec3 point, float) { return Points::nearest(v, point); }
+  static std::size_t overlapping(SphereView v, Vec3 centre, float radius, IdCollector& out) {
+    return Points::overlapping(v, centre, radius, out);
+  }
+  static Hit bvh_nearest(const BvhData& bvh, Vec3 point, float max_distance, std::size_t* slot) {
+    return Points::nearest(bvh, point, max_distance, *slot);
+  }
+  static std::size_t bvh_overlapping(const BvhData& bvh, Vec3 centre, float radius,
+                                     IdCollector& out) {
+    return Points::overlapping(bvh, centre, radius, out);
+  }
 };
 
 template <class A>
@@ -62,7 +90,13 @@ constexpr EntryTable make_entry_table(Isa isa) {
           E::Tree::kWidth,
           &E::bvh_intersect,
           &E::bvh_occluded,
-          &E::bvh_intersect_stream};
+          &E::bvh_intersect_stream,
+          &E::intersect_all,
+          &E::bvh_intersect_all,
+          &E::nearest,
+          &E::overlapping,
+          &E::bvh_nearest,
+          &E::bvh_overlapping};
 }
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -11,7 +11,8 @@
 
 namespace sphray::detail {
 
-struct BvhData;  // bvh/bvh_data.hpp
+struct BvhData;      // bvh/bvh_data.hpp
+struct IdCollector;  // point/id_collector.hpp
 
 /// The entry points of one instruction set. Same contract as query.hpp. Internal: tests and
 /// benchmarks reach a given instruction set through it (the sphray_kernel_internals target).
@@ -28,6 +29,20 @@ struct EntryTable {
   Hit (*bvh_intersect)(const BvhData& bvh, const Ray& ray);
   bool (*bvh_occluded)(const BvhData& bvh, const Ray& ray);
   void (*bvh_intersect_stream)(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t count);
+  /// Every crossing (all_hits.hpp): the nearest capacity of them into hits (and exits, if not
+  /// null), sorted; returns how many there are in all.
+  std::size_t (*intersect_all)(SphereView spheres, const Ray& ray, Hit* hits, bool* exits,
+                               std::size_t capacity);
+  std::size_t (*bvh_intersect_all)(const BvhData& bvh, const Ray& ray, Hit* hits, bool* exits,
+                                   std::size_t capacity);
+  /// The point queries (point_queries.hpp): the nearest sphere as {signed distance, id}
+  /// ({+inf, kNoHit} for none; the caller applies max_distance, which may only prune), and the
+  /// spheres a ball overlaps, into out; returns their number.
+  Hit (*nearest)(SphereView spheres, Vec3 point, float max_distance);
+  std::size_t (*overlapping)(SphereView spheres, Vec3 centre, float radius, IdCollector& out);
+  /// slot: where the nearest sphere sits in the tree's arrays (bvh.spheres).
+  Hit (*bvh_nearest)(const BvhData& bvh, Vec3 point, float max_distance, std::size_t* slot);
+  std::size_t (*bvh_overlapping)(const BvhData& bvh, Vec3 centre, float radius, IdCollector& out);
 };
 
 /// The kernel for isa, or nullptr if this build lacks it or this machine cannot run it.

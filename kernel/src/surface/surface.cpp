@@ -1,7 +1,9 @@
 // A hit's surface (point, normal, error bound) and the origin of a ray leaving it: plain C++
 // on the public types, the same on every instruction set (docs/kernel.md, "Leaving a surface").
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "sphray/query.hpp"
 
@@ -26,12 +28,25 @@ Vec3 surface_error(Vec3 c, float r) {
   return gamma(16) * Vec3{std::fabs(c.x) + r, std::fabs(c.y) + r, std::fabs(c.z) + r};
 }
 
-// The next float from x away from zero in the direction of sign (pbrt-v4's NextFloatUp/Down):
-// rounding the offset origin to nearest could put it back inside the error box.
+// The next float from x in the direction of sign (pbrt-v4's NextFloatUp/Down): rounding the
+// offset origin to nearest could put it back inside the error box. std::nextafter's result for
+// every x but NaN, by stepping the bits (one up the magnitude or one down) without its call:
+// spawn() runs once per bounce of every path.
 float away(float x, float sign) {
-  if (sign > 0.0f) return std::nextafter(x, INFINITY);
-  if (sign < 0.0f) return std::nextafter(x, -INFINITY);
-  return x;
+  if (sign == 0.0f || std::isnan(x)) return x;
+  if (x == 0.0f) return std::copysign(0x1p-149f, sign);  // -0 steps as +0
+  const auto bits = std::bit_cast<std::uint32_t>(x);
+  const bool grows = (x > 0.0f) == (sign > 0.0f);
+  if (!grows) return std::bit_cast<float>(bits - 1u);  // an infinity steps to the largest float
+  return std::isinf(x) ? x : std::bit_cast<float>(bits + 1u);
+}
+
+// A power of two s with s * x in [1, 4) for finite x > 0 (in [2^-22, 4) for denormals): a
+// scale by it is exact, where a division by x would round, and costs a multiply, not a divide.
+float power_of_two_near_inverse(float x) {
+  const auto exponent = static_cast<int>(std::bit_cast<std::uint32_t>(x) >> 23);  // biased
+  const int scale_exponent = std::max(254 - exponent, 1);  // 2^(127 - e), kept a normal float
+  return std::bit_cast<float>(static_cast<std::uint32_t>(scale_exponent) << 23);
 }
 
 }  // namespace
@@ -46,14 +61,15 @@ Surface surface(SphereView spheres, const Ray& ray, const Hit& hit) {
   // back on the sphere along it, so secondary rays start from the surface itself.
   // A hit at the very centre (radius below float's resolution) has no direction from it: face
   // the ray instead, so the normal is still unit length.
-  // The offset is divided by its largest component before it is normalised: the squares of a
-  // tiny one (a sphere of radius 1e-22) fall into float's denormals, whose few bits would make
-  // the normal's length wrong by percents.
+  // The offset is scaled near unit length before it is normalised: the squares of a tiny one
+  // (a sphere of radius 1e-22) fall into float's denormals, whose few bits would make the
+  // normal's length wrong by percents.
   const Vec3 from_center = p - center;
   const float largest =
       std::max({std::fabs(from_center.x), std::fabs(from_center.y), std::fabs(from_center.z)});
   const bool has_direction = isfinite(from_center) && largest > 0.0f;
-  const Vec3 normal = has_direction ? normalize(from_center / largest) : -normalize(ray.dir);
+  const Vec3 normal = has_direction ? normalize(from_center * power_of_two_near_inverse(largest))
+                                    : -normalize(ray.dir);
   return {center + radius * normal, normal, dot(ray.dir, normal) < 0.0f,
           surface_error(center, radius)};
 }

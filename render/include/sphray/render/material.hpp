@@ -31,17 +31,19 @@ struct Sky {
   Vec3 zenith{0.5f, 0.7f, 1.0f};
 
   Vec3 radiance(Vec3 dir) const {
-    const float a = 0.5f * (normalize(dir).y + 1.0f);
+    const float a = 0.5f * (dir.y / length(dir) + 1.0f);  // normalize(dir).y, bit for bit
     return (1.0f - a) * horizon + a * zenith;
   }
 };
 
-/// Uniform floats from a key of (seed, pixel, sample, bounce): SplitMix64 (Steele, Lea and
-/// Flood, 2014) over a counter started at a hash of the key, so no draw depends on which
-/// thread or in which order other samples were traced.
+/// One path's uniform floats, from a key of (seed, pixel, sample): SplitMix64 (Steele, Lea and
+/// Flood, 2014) over a counter started at a hash of the key. The path draws from it in order,
+/// bounce after bounce, so no draw depends on which thread or in which order other samples
+/// were traced, and the key is hashed once per path rather than once per bounce.
 class PathRandom {
  public:
-  PathRandom(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample, std::uint32_t bounce);
+  PathRandom() = default;
+  PathRandom(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample);
   /// Uniform in [0, 1), 24 bits, exact in float.
   float uniform() {
     state_ += 0x9e3779b97f4a7c15ull;
@@ -60,7 +62,7 @@ class PathRandom {
   }
 
  private:
-  std::uint64_t state_;
+  std::uint64_t state_ = 0;
 };
 
 /// Where a path goes on from a surface, and what the surface lets through.

@@ -1,0 +1,51 @@
+// Beyond the closest hit: every crossing of a ray with the spheres' surfaces, for transparency,
+// densities along a line of sight, counting layers, or telling inside from outside.
+//
+// Contract (all instruction sets, the scalar reference and the tree alike, bit for bit):
+// - A sphere's crossings are its two roots along the ray, near <= far, the same floats the
+//   closest-hit query computes (query.hpp); each counts where it lies in (tmin, tmax). The near
+//   root is an entry, the far root an exit: a ray starting inside a sphere has only its exit, a
+//   tangent ray an entry and an exit at the same t.
+// - The crossings are ordered by t, then by sphere id, then entry before exit. The first one is
+//   the closest hit: intersect(spheres, ray) returns its t and id whenever there is one.
+// - intersect_all fills out with the first out.size() crossings in that order and returns how
+//   many there are in all (more than out.size() when out is too small; out's other elements are
+//   left as they were). count_hits returns that number alone.
+// - Rays and spheres the closest-hit contract never lets hit (NaN, infinite, degenerate) have no
+//   crossings. The queries never allocate; they throw only std::length_error, when exits is not
+//   empty and differs from out in size.
+#pragma once
+
+#include <cstddef>
+#include <span>
+
+#include "sphray/api.h"
+#include "sphray/bvh.hpp"
+#include "sphray/ray.hpp"
+#include "sphray/spheres.hpp"
+
+namespace sphray {
+
+/// The first out.size() crossings of ray with the spheres, sorted; returns their total number.
+SPHRAY_API std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out);
+/// As above, and exits[i] tells whether out[i] is where the ray leaves its sphere. exits is
+/// empty (not wanted) or out.size() long.
+SPHRAY_API std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out,
+                                     std::span<bool> exits);
+/// The number of crossings of ray with the spheres in (tmin, tmax).
+SPHRAY_API std::size_t count_hits(SphereView spheres, const Ray& ray);
+
+/// The same queries through a tree: the same results as on the spheres it was built (or last
+/// refitted) from.
+SPHRAY_API std::size_t intersect_all(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out);
+SPHRAY_API std::size_t intersect_all(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out,
+                                     std::span<bool> exits);
+SPHRAY_API std::size_t count_hits(const SphereBVH& bvh, const Ray& ray);
+
+namespace scalar {
+/// The reference implementation, one sphere at a time.
+SPHRAY_API std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out,
+                                     std::span<bool> exits);
+}  // namespace scalar
+
+}  // namespace sphray

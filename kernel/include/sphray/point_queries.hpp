@@ -1,0 +1,64 @@
+// Questions about points rather than rays: the sphere nearest a point, whether a point is
+// inside any sphere (occupancy), and which spheres a query ball overlaps (collision
+// candidates). For particle simulations, signed-distance lookups and picking.
+//
+// Contract (all instruction sets, the scalar reference and the tree alike, bit for bit):
+// - The signed distance from a point p to sphere i is d_i = |p - c_i| - r_i (negative inside),
+//   in float, by the same operations everywhere (docs/queries.md).
+// - nearest: the sphere of smallest d_i with d_i <= max_distance, ties to the lower id. Inside
+//   overlapping spheres that is the one p is deepest in: min_i d_i is the union's signed
+//   distance, the usual convention for sets of spheres. A miss has id kNoHit, distance
+//   max_distance and point p.
+// - inside: whether any d_i < 0 (the open balls).
+// - overlapping: the ids of the spheres with d_i < radius, ascending: the first out.size() of
+//   them into out; returns how many there are in all. Touching is not overlapping.
+// - Spheres the ray queries never hit (radius <= 0, NaN or infinite fields) are never found. A
+//   NaN or infinite point, a NaN max_distance, or a radius that is negative or NaN gives the
+//   empty answer (a miss, false, 0). No allocation, no locks, no global state.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <span>
+
+#include "sphray/api.h"
+#include "sphray/bvh.hpp"
+#include "sphray/ray.hpp"
+#include "sphray/spheres.hpp"
+
+namespace sphray {
+
+struct Nearest {
+  std::uint32_t id = kNoHit;
+  float distance = std::numeric_limits<float>::infinity();  // signed: negative inside
+  Vec3 point{0.0f, 0.0f, 0.0f};  // the closest point of that sphere's surface
+  bool found() const { return id != kNoHit; }
+};
+
+inline constexpr float kAnyDistance = std::numeric_limits<float>::infinity();
+
+/// The sphere nearest point whose signed distance is at most max_distance.
+SPHRAY_API Nearest nearest(SphereView spheres, Vec3 point, float max_distance = kAnyDistance);
+/// Whether point lies inside any sphere.
+SPHRAY_API bool inside(SphereView spheres, Vec3 point);
+/// The spheres overlapping the ball (centre, radius), ascending by id: the first out.size()
+/// into out; returns their total number.
+SPHRAY_API std::size_t overlapping(SphereView spheres, Vec3 centre, float radius,
+                                   std::span<std::uint32_t> out);
+
+/// The same through a tree, walked by distance: the same results as on the spheres it was
+/// built (or last refitted) from.
+SPHRAY_API Nearest nearest(const SphereBVH& bvh, Vec3 point, float max_distance = kAnyDistance);
+SPHRAY_API bool inside(const SphereBVH& bvh, Vec3 point);
+SPHRAY_API std::size_t overlapping(const SphereBVH& bvh, Vec3 centre, float radius,
+                                   std::span<std::uint32_t> out);
+
+namespace scalar {
+/// The reference implementations, one sphere at a time.
+SPHRAY_API Nearest nearest(SphereView spheres, Vec3 point, float max_distance = kAnyDistance);
+SPHRAY_API std::size_t overlapping(SphereView spheres, Vec3 centre, float radius,
+                                   std::span<std::uint32_t> out);
+}  // namespace scalar
+
+}  // namespace sphray

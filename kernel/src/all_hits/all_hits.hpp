@@ -1,0 +1,87 @@
+// Every crossing of a ray with the spheres, written once over an xsimd architecture A: the
+// roots of a batch of spheres at a time (brute/sphere_lanes.hpp), both of them kept where they
+// lie in (tmin, tmax), over a view (brute force) or over the leaves of a tree the ray reaches
+// (bvh/walk.hpp, with the search interval never shrinking: every hit is wanted).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "all_hits/hit_list.hpp"
+#include "brute/brute_force.hpp"
+#include "brute/sphere_lanes.hpp"
+#include "bvh/bvh_data.hpp"
+#include "bvh/walk.hpp"
+#include "simd/isa_namespace.hpp"
+#include "simd/lane_reduce.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
+
+template <class A>
+struct AllHits {
+  using Lanes = SphereLanes<A>;
+  using Floats = typename Lanes::Floats;
+  using Mask = typename Lanes::Mask;
+  using RaySetup = typename Lanes::RaySetup;
+  using Spheres = typename Lanes::Spheres;
+  static constexpr std::size_t kWidth = Lanes::kWidth;
+
+  static std::size_t intersect_all(SphereView v, const Ray& ray, HitList& list) {
+    RaySetup s;
+    if (!Lanes::setup(ray, s)) return 0;
+    v = BruteForce<A>::clamp(v);
+    const std::size_t whole = BruteForce<A>::whole_batches(v);
+    auto add = [&](const Spheres& sp, std::size_t first) {
+      add_batch<Skip::kPreTest>(
+          s, sp, list, [&](unsigned lane) { return static_cast<std::uint32_t>(first + lane); });
+    };
+    for (std::size_t b = 0; b < whole; ++b)
+      add(Lanes::load(v, b * kWidth), b * kWidth);
+    if (whole * kWidth < v.count) add(Lanes::load_tail(v, whole * kWidth), whole * kWidth);
+    return list.total();
+  }
+
+  static std::size_t intersect_all(const BvhData& bvh, const Ray& ray, HitList& list) {
+    RaySetup s;
+    if (!Lanes::setup(ray, s)) return 0;
+    const float tmax = s.tmax;  // the walk's bound: it never shrinks
+    TreeWalk<A>::traverse(bvh, ray, tmax, [&](std::size_t first) {
+      add_batch<Skip::kAfterDisc>(s, Lanes::load(bvh.spheres, first), list,
+                                  [&](unsigned lane) { return bvh.ids[first + lane]; });
+      return false;
+    });
+    return list.total();
+  }
+
+  // The crossings of one batch: a lane's near root is an entry, its far root an exit, each
+  // where it lies in (tmin, tmax). The lanes that have one are few: a loop over their bits.
+  template <Skip kSkip, class IdOf>
+  static void add_batch(const RaySetup& s, const Spheres& sp, HitList& list, IdOf id_of) {
+    Floats near, far;
+    Mask live;
+    if (!Lanes::template near_far<kSkip>(s, sp, near, far, live)) return;
+    const Floats tmax(s.tmax);
+    unsigned entries = LaneReduce<A>::bits(live & (near > s.tmin) & (near < tmax));
+    unsigned exits = LaneReduce<A>::bits(live & (far > s.tmin) & (far < tmax));
+    if ((entries | exits) == 0) return;
+    if (list.counts_only()) {
+      list.count(static_cast<std::size_t>(__builtin_popcount(entries) + __builtin_popcount(exits)));
+      return;
+    }
+    alignas(64) float near_t[kWidth], far_t[kWidth];
+    near.store_aligned(near_t);
+    far.store_aligned(far_t);
+    for (; entries != 0; entries &= entries - 1) {
+      const auto lane = static_cast<unsigned>(__builtin_ctz(entries));
+      list.add(near_t[lane], id_of(lane), false);
+    }
+    for (; exits != 0; exits &= exits - 1) {
+      const auto lane = static_cast<unsigned>(__builtin_ctz(exits));
+      list.add(far_t[lane], id_of(lane), true);
+    }
+  }
+};
+
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -1,0 +1,177 @@
+// The point queries, written once over an xsimd architecture A: the sphere nearest a point
+// (by signed distance to its surface) and the spheres a query ball overlaps, over a view a
+// batch at a time, or through a tree by distance: children nearest first, and a child skipped
+// once its box's lower bound (box_distance.hpp) is beyond what is still wanted.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "brute/brute_force.hpp"
+#include "brute/sphere_lanes.hpp"
+#include "bvh/box_test.hpp"
+#include "bvh/bvh_data.hpp"
+#include "point/box_distance.hpp"
+#include "point/id_collector.hpp"
+#include "point/point_lanes.hpp"
+#include "simd/isa_namespace.hpp"
+#include "simd/lane_reduce.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
+
+template <class A>
+struct PointQueries {
+  using Lanes = PointLanes<A>;
+  using Floats = typename Lanes::Floats;
+  using Mask = typename Lanes::Mask;
+  using Point = typename Lanes::Point;
+  using Spheres = typename Lanes::Spheres;
+  using Sphere = SphereLanes<A>;
+  using Brute = BruteForce<A>;
+  using Box = BoxTest<A>;
+  static constexpr std::size_t kWidth = Lanes::kWidth;
+
+  static bool finite(Vec3 p) {
+    return __builtin_isfinite(p.x) && __builtin_isfinite(p.y) && __builtin_isfinite(p.z);
+  }
+
+  // The nearest sphere as (signed distance, id): the smallest distance, then the lowest id, of
+  // the valid spheres at a finite distance; {+inf, kNoHit} if none. The caller applies the
+  // query's maximum.
+  static Hit nearest(SphereView v, Vec3 point) {
+    if (!finite(point)) return {__builtin_inff(), kNoHit};
+    v = Brute::clamp(v);
+    const Point p = Lanes::setup(point);
+    Floats best_d(__builtin_inff());
+    Floats best_batch = Brute::index_bits(kNoHit);
+    auto keep = [&](const Spheres& sp, std::uint32_t batch) {
+      Mask valid;
+      const Floats d = Lanes::signed_distance(p, sp, valid);
+      const Mask nearer = valid & (d < best_d);  // strict: the earlier batch keeps a tie
+      best_d = xsimd::select(nearer, d, best_d);
+      best_batch = xsimd::select(nearer, Brute::index_bits(batch), best_batch);
+    };
+    const std::size_t whole = Brute::whole_batches(v);
+    for (std::size_t b = 0; b < whole; ++b)
+      keep(Sphere::load(v, b * kWidth), static_cast<std::uint32_t>(b));
+    if (whole * kWidth < v.count)
+      keep(Sphere::load_tail(v, whole * kWidth), static_cast<std::uint32_t>(whole));
+    return Brute::reduce(best_d, best_batch, __builtin_inff());
+  }
+
+  // The spheres whose signed distance from centre is below radius, into out (or only whether
+  // there is one, when out.first_only). Returns out.total.
+  static std::size_t overlapping(SphereView v, Vec3 centre, float radius, IdCollector& out) {
+    if (!finite(centre) || !(radius >= 0.0f)) return 0;
+    v = Brute::clamp(v);
+    const Point p = Lanes::setup(centre);
+    const Floats limit(radius);
+    auto add = [&](const Spheres& sp, std::size_t first) {
+      Mask valid;
+      const Floats d = Lanes::signed_distance(p, sp, valid);
+      unsigned bits = LaneReduce<A>::bits(valid & (d < limit));
+      for (; bits != 0; bits &= bits - 1)
+        if (out.add(static_cast<std::uint32_t>(first + static_cast<unsigned>(__builtin_ctz(bits)))))
+          return true;
+      return false;
+    };
+    const std::size_t whole = Brute::whole_batches(v);
+    for (std::size_t b = 0; b < whole; ++b)
+      if (add(Sphere::load(v, b * kWidth), b * kWidth)) return out.total;
+    if (whole * kWidth < v.count) add(Sphere::load_tail(v, whole * kWidth), whole * kWidth);
+    return out.total;
+  }
+
+  // slot: where the answer sits in bvh.spheres.
+  static Hit nearest(const BvhData& bvh, Vec3 point, float max_distance, std::size_t& slot) {
+    Hit best{__builtin_inff(), kNoHit};
+    if (!finite(point)) return best;
+    const Point p = Lanes::setup(point);
+    // What a child's bound must not exceed: the best so far, and never beyond the maximum.
+    auto bound = [&] { return best.t < max_distance ? best.t : max_distance; };
+    walk(bvh, p, bound, [&](std::size_t first) {
+      Mask valid;
+      const Floats d = Lanes::signed_distance(p, Sphere::load(bvh.spheres, first), valid);
+      const Mask live = valid & (d <= Floats(best.t));
+      if (xsimd::none(live)) return false;
+      const Floats m =
+          LaneReduce<A>::template all_min<float>(xsimd::select(live, d, Floats(__builtin_inff())));
+      const float dm = m.get(0);
+      if (!(dm < __builtin_inff())) return false;
+      const std::size_t at =
+          first + lowest_id_lane(bvh, first, LaneReduce<A>::bits(live & (d == m)));
+      const Hit candidate{dm, bvh.ids[at]};
+      if (candidate.t < best.t || (candidate.t == best.t && candidate.id < best.id)) {
+        best = candidate;
+        slot = at;
+      }
+      return false;
+    });
+    return best;
+  }
+
+  static std::size_t overlapping(const BvhData& bvh, Vec3 centre, float radius, IdCollector& out) {
+    if (!finite(centre) || !(radius >= 0.0f)) return 0;
+    const Point p = Lanes::setup(centre);
+    const Floats limit(radius);
+    walk(
+        bvh, p, [&] { return radius; },
+        [&](std::size_t first) {
+          Mask valid;
+          const Floats d = Lanes::signed_distance(p, Sphere::load(bvh.spheres, first), valid);
+          unsigned bits = LaneReduce<A>::bits(valid & (d < limit));
+          for (; bits != 0; bits &= bits - 1)
+            if (out.add(bvh.ids[first + static_cast<unsigned>(__builtin_ctz(bits))])) return true;
+          return false;
+        });
+    return out.total;
+  }
+
+  // The lane of the lowest id among the leaf's set lanes (at least one; several only for
+  // spheres at exactly the same distance).
+  static unsigned lowest_id_lane(const BvhData& bvh, std::size_t first, unsigned lanes) {
+    auto lane = static_cast<unsigned>(__builtin_ctz(lanes));
+    for (lanes &= lanes - 1; lanes != 0; lanes &= lanes - 1) {
+      const auto other = static_cast<unsigned>(__builtin_ctz(lanes));
+      if (bvh.ids[first + other] < bvh.ids[first + lane]) lane = other;
+    }
+    return lane;
+  }
+
+  // Visits the leaves whose children's lower bounds are at most bound(), nearest first; leaf
+  // returns whether to stop. bound() may shrink as leaves are visited (nearest).
+  template <class Bound, class Leaf>
+  static void walk(const BvhData& bvh, const Point& p, Bound&& bound, Leaf&& leaf) {
+    if (bvh.node_count == 0) return;
+    if (bvh.count <= kWidth) {  // one leaf at slot 0, as the ray walk reads it
+      leaf(0);
+      return;
+    }
+    typename Box::StackEntry stack[Box::kStackSize];
+    std::size_t top = 0;
+    ChildRef ref = ChildRef::node(0);
+    for (;;) {
+      if (ref.is_leaf()) {
+        if (leaf(ref.first(kWidth))) return;
+      } else {
+        const typename Box::Node node(bvh.nodes, ref.node_index(), kWidth);
+        const Floats lower = BoxDistance<A>::lower_bound(node, p.x, p.y, p.z);
+        const unsigned bits = LaneReduce<A>::bits(lower <= Floats(bound()));
+        if (bits != 0) {
+          ref = Box::enter(node, bits, lower, stack, top);
+          continue;
+        }
+      }
+      // The next entry still worth a visit: the bound may have shrunk since it was pushed.
+      do {
+        if (top == 0) return;
+        --top;
+      } while (stack[top].tnear > bound());
+      ref = stack[top].ref;
+    }
+  }
+};
+
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE
