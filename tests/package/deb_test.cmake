@@ -9,6 +9,7 @@
 # Arguments: -DBINARY_DIR=<sphray build> -DWORK_DIR=<scratch> -DVERSION=<project version>
 #            -DLIBDIR=<lib> -DCC=<C compiler> -DEXAMPLE=<docs/examples/c/render_normals.c>
 #            -DEXTRA_FLAGS=<the build's compiler and linker flags>
+#            -DHEADER_DIR=<kernel/include/sphray> -DNEED_TOOLS=<ON if the command is built>
 cmake_policy(SET CMP0054 NEW)  # "quoted" strings in if() are strings
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
@@ -27,14 +28,13 @@ message("${output}")
 set(lib usr/${LIBDIR})
 # Each package, and the files it must hold (its directories aside, nothing more).
 set(files_libsphray0 ./${lib}/libsphray.so.0 ./${lib}/libsphray.so.${VERSION})
-set(files_libsphray-dev ./${lib}/libsphray.so ./${lib}/libsphray.a ./${lib}/pkgconfig/sphray.pc
+# libsphray-dev: every public header of the source tree, the generated version.hpp, the rest.
+file(GLOB headers RELATIVE ${HEADER_DIR} ${HEADER_DIR}/*.h ${HEADER_DIR}/*.hpp)
+list(TRANSFORM headers PREPEND ./usr/include/sphray/)
+set(files_libsphray-dev ${headers} ./usr/include/sphray/version.hpp
+    ./${lib}/libsphray.so ./${lib}/libsphray.a ./${lib}/pkgconfig/sphray.pc
     ./${lib}/cmake/sphray/sphrayConfig.cmake ./${lib}/cmake/sphray/sphrayConfigVersion.cmake
-    ./${lib}/cmake/sphray/sphrayTargets.cmake ./${lib}/cmake/sphray/sphrayTargets-CONFIG.cmake
-    ./usr/include/sphray/api.h
-    ./usr/include/sphray/sphray.h ./usr/include/sphray/sphray.hpp ./usr/include/sphray/bvh.hpp
-    ./usr/include/sphray/isa.hpp ./usr/include/sphray/query.hpp ./usr/include/sphray/ray.hpp
-    ./usr/include/sphray/spheres.hpp ./usr/include/sphray/vec3.hpp
-    ./usr/include/sphray/version.hpp)
+    ./${lib}/cmake/sphray/sphrayTargets.cmake ./${lib}/cmake/sphray/sphrayTargets-CONFIG.cmake)
 set(files_sphray ./usr/bin/sphray)
 foreach(package libsphray0 libsphray-dev sphray)
   file(GLOB deb ${WORK_DIR}/${package}_${VERSION}_*.deb)
