@@ -63,6 +63,8 @@ std::vector<Builder> embree_builders();
 /// and divide per vector width) that bounds the kernel: the inputs of docs/performance.md's
 /// cycles-per-batch section.
 void register_clock_benchmarks();
+/// The queries beyond the closest hit against the closest hit (query_benchmarks.cpp).
+void register_query_benchmarks();
 
 /// sphray::SphereBVH: per ray, and the stream on one and all threads; its build and refit.
 std::vector<Implementation> bvh_implementations();

@@ -72,6 +72,7 @@ int main(int argc, char** argv) {
   static const std::vector<Builder> builders = all_builders();
   register_clock_benchmarks();
   register_benchmarks(implementations, builders);
+  register_query_benchmarks();
   describe_machine();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

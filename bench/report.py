@@ -80,6 +80,8 @@ def parse_name(name):
         return Row("build", scene=parts[1], impl=parts[2], threads=threads)
     if parts[0] == "clock" and len(parts) == 2:
         return Row("clock", impl=parts[1])
+    if parts[0] == "queries" and len(parts) == 4:
+        return Row("queries", scene=parts[1], kind=parts[2], impl=parts[3], threads=threads)
     return None
 
 
@@ -108,6 +110,7 @@ class Results:
         self.rays = {(r.scene, r.kind, r.impl, r.threads): r for r in rows if r.group == "rays"}
         self.builds = [r for r in rows if r.group == "build"]
         self.clock = {r.impl: r for r in rows if r.group == "clock" and not r.error}
+        self.queries = {(r.scene, r.kind, r.impl): r for r in rows if r.group == "queries"}
         self.scenes = []
         for r in rows:
             if r.group == "rays" and r.scene not in self.scenes:
@@ -652,6 +655,54 @@ def bounce_section(res):
     return "\n".join(out)
 
 
+QUERY_ROWS = [
+    ("closest", "rays", "`intersect`: the closest hit (the yardstick)"),
+    ("occluded", "rays", "`occluded`: any hit"),
+    ("count_hits", "rays", "`count_hits`: every crossing, counted"),
+    ("intersect_all16", "rays", "`intersect_all` into 16 slots: the nearest crossings, sorted"),
+    ("nearest", "points", "`nearest`: the sphere nearest a point"),
+    ("inside", "points", "`inside`: occupancy"),
+    ("overlapping", "points", "`overlapping` with the median radius, 16 slots"),
+]
+
+
+def queries_section(res):
+    """The queries beyond the closest hit (docs/queries.md), per second, one thread."""
+    if not res.queries:
+        return ""
+    cols = []
+    for scene in ("random:4096", "random:65536"):
+        for how in ("tree", "brute"):
+            if any((scene, q, how) in res.queries for q, _, _ in QUERY_ROWS):
+                cols.append((scene, how))
+
+    def rate(scene, query, how):
+        r = res.queries.get((scene, query, how))
+        if r is None or r.error:
+            return None
+        return r.get("items_per_second")
+
+    rows = []
+    for query, unit, label in QUERY_ROWS:
+        cells = [label]
+        for scene, how in cols:
+            x = rate(scene, query, how)
+            base = rate(scene, "closest", how)
+            cells.append("" if x is None else
+                         f"{fmt_rate(x)} ({fmt_ratio(ratio(x, base))})" if query != "closest" else fmt_rate(x))
+        rows.append(cells)
+    out = ["## Queries beyond the closest hit", "",
+           "Queries per second on one thread (`queries/...` benchmarks, bench/query_benchmarks.cpp): the "
+           "incoherent rays of each scene, and 65,536 points uniform in its box (fewer for brute force). "
+           "In brackets, the rate against the closest hit's on the same scene and structure. Each query is "
+           "checked against the scalar reference on a sample first. Contracts: [queries.md](queries.md).", ""]
+    out.append(table(["query"] + [f"{s} {h}" for s, h in cols], rows))
+    out += ["", "The every-crossing queries walk the whole segment where the closest hit stops at the first "
+            "sphere, so their cost grows with the spheres along the ray; the point queries walk the same tree "
+            "by distance."]
+    return "\n".join(out)
+
+
 def failures_section(res):
     failed = [r for r in res.rows if r.error]
     ties = [r for r in res.rays.values() if not r.error and (r.get("id_ties") or 0) > 0]
@@ -785,6 +836,7 @@ def main(argv):
         stream_table(res),
         bvh_section(res),
         bounce_section(res),
+        queries_section(res),
         build_table(res),
         cycles_section(res),
         failures_section(res),

@@ -240,5 +240,36 @@ TEST(AllHits, EveryKernelAndTreeMatchTheReferences) {
   EXPECT_GT(crossings_seen, rays_checked) << "too few crossings for the comparison to bite";
 }
 
+// The batch forms give each ray the single query's answer, in its own slots.
+TEST(AllHits, BatchFormsAnswerEachRayAsTheSingleQuery) {
+  std::mt19937 rng(151);
+  const SphereSoA scene = test::make_scene(test::Shape::clustered, 300, rng);
+  const SphereView v = scene.view();
+  const SphereBVH tree(v);
+  const std::vector<Ray> rays = rays_for(200, rng);
+  constexpr std::size_t kPer = 3;
+  std::vector<std::size_t> counts(rays.size()), tree_counts(rays.size()), only(rays.size());
+  std::vector<Hit> out(rays.size() * kPer, Hit{-1, 9}), tree_out(out);
+  intersect_all(v, rays, out, kPer, counts);
+  intersect_all(tree, rays, tree_out, kPer, tree_counts);
+  count_hits(tree, rays, only);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    Hit one[kPer] = {{-1, 9}, {-1, 9}, {-1, 9}};
+    const std::size_t n = intersect_all(v, rays[i], one);
+    ASSERT_EQ(counts[i], n);
+    ASSERT_EQ(tree_counts[i], n);
+    ASSERT_EQ(only[i], n);
+    for (std::size_t k = 0; k < kPer; ++k) {
+      ASSERT_TRUE(same_bits(out[i * kPer + k], one[k])) << "ray " << i << " slot " << k;
+      ASSERT_TRUE(same_bits(tree_out[i * kPer + k], one[k])) << "ray " << i << " slot " << k;
+    }
+  }
+  std::vector<std::size_t> short_counts(rays.size() - 1);
+  EXPECT_THROW(count_hits(v, rays, short_counts), std::length_error);
+  EXPECT_THROW(intersect_all(tree, rays, std::span(out).first(out.size() - 1), kPer, counts),
+               std::length_error);
+  EXPECT_THROW(intersect_all(v, rays, out, 0, counts), std::length_error);
+}
+
 }  // namespace
 }  // namespace sphray

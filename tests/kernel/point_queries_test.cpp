@@ -250,5 +250,30 @@ TEST(PointQueries, EveryKernelAndTreeMatchTheReferences) {
   EXPECT_GT(listed, queries);
 }
 
+// The batch forms give each point the single query's answer.
+TEST(PointQueries, BatchFormsAnswerEachPointAsTheSingleQuery) {
+  std::mt19937 rng(161);
+  const SphereSoA scene = test::make_scene(test::Shape::random, 300, rng);
+  const SphereView v = scene.view();
+  const SphereBVH tree(v);
+  const std::vector<Vec3> points = points_for(v, 200, rng);
+  std::vector<Nearest> near(points.size()), tree_near(points.size());
+  auto in = std::make_unique<bool[]>(points.size());
+  auto tree_in = std::make_unique<bool[]>(points.size());
+  nearest(v, points, near, 2.0f);
+  nearest(tree, points, tree_near, 2.0f);
+  inside(v, points, std::span(in.get(), points.size()));
+  inside(tree, points, std::span(tree_in.get(), points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Nearest one = nearest(v, points[i], 2.0f);
+    ASSERT_TRUE(same_bits(near[i], one)) << i;
+    ASSERT_TRUE(same_bits(tree_near[i], one)) << i;
+    ASSERT_EQ(in[i], inside(v, points[i])) << i;
+    ASSERT_EQ(tree_in[i], in[i]) << i;
+  }
+  EXPECT_THROW(nearest(tree, points, std::span(near).first(3)), std::length_error);
+  EXPECT_THROW(inside(v, points, std::span(in.get(), 3)), std::length_error);
+}
+
 }  // namespace
 }  // namespace sphray

@@ -12,8 +12,8 @@
 //   many there are in all (more than out.size() when out is too small; out's other elements are
 //   left as they were). count_hits returns that number alone.
 // - Rays and spheres the closest-hit contract never lets hit (NaN, infinite, degenerate) have no
-//   crossings. The queries never allocate; they throw only std::length_error, when exits is not
-//   empty and differs from out in size.
+//   crossings. The queries never allocate; they throw only std::length_error, on spans whose
+//   sizes do not match (below).
 #pragma once
 
 #include <cstddef>
@@ -41,6 +41,16 @@ SPHRAY_API std::size_t intersect_all(const SphereBVH& bvh, const Ray& ray, std::
 SPHRAY_API std::size_t intersect_all(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out,
                                      std::span<bool> exits);
 SPHRAY_API std::size_t count_hits(const SphereBVH& bvh, const Ray& ray);
+
+/// Batch forms, one answer per ray: counts[i] = count_hits(spheres, rays[i]); and the first
+/// per_ray crossings of rays[i] in out[i * per_ray ...], their total in counts[i]. Throw
+/// std::length_error unless counts.size() == rays.size() and out.size() == rays.size() * per_ray.
+void count_hits(SphereView spheres, std::span<const Ray> rays, std::span<std::size_t> counts);
+void count_hits(const SphereBVH& bvh, std::span<const Ray> rays, std::span<std::size_t> counts);
+void intersect_all(SphereView spheres, std::span<const Ray> rays, std::span<Hit> out,
+                   std::size_t per_ray, std::span<std::size_t> counts);
+void intersect_all(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> out,
+                   std::size_t per_ray, std::span<std::size_t> counts);
 
 namespace scalar {
 /// The reference implementation, one sphere at a time.

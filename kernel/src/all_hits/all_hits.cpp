@@ -50,4 +50,43 @@ std::size_t count_hits(const SphereBVH& bvh, const Ray& ray) {
   return intersect_all(bvh, ray, {}, {});
 }
 
+namespace {
+
+// out must hold per_ray hits for each ray (written without overflowing rays * per_ray).
+void check_batch(std::size_t rays, std::size_t counts, std::size_t out, std::size_t per_ray) {
+  const bool fits = per_ray == 0 ? out == 0 : out % per_ray == 0 && out / per_ray == rays;
+  if (counts != rays || !fits)
+    throw std::length_error(
+        "sphray::intersect_all: expected one count per ray and per_ray hits for each");
+}
+
+}  // namespace
+
+void count_hits(SphereView spheres, std::span<const Ray> rays, std::span<std::size_t> counts) {
+  intersect_all(spheres, rays, {}, 0, counts);
+}
+
+void count_hits(const SphereBVH& bvh, std::span<const Ray> rays, std::span<std::size_t> counts) {
+  intersect_all(bvh, rays, {}, 0, counts);
+}
+
+void intersect_all(SphereView spheres, std::span<const Ray> rays, std::span<Hit> out,
+                   std::size_t per_ray, std::span<std::size_t> counts) {
+  check_batch(rays.size(), counts.size(), out.size(), per_ray);
+  const detail::EntryTable& entries = detail::entries_for_size(spheres.count);
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    counts[i] = entries.intersect_all(spheres, rays[i], out.data() + i * per_ray, nullptr, per_ray);
+}
+
+void intersect_all(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> out,
+                   std::size_t per_ray, std::span<std::size_t> counts) {
+  check_batch(rays.size(), counts.size(), out.size(), per_ray);
+  using A = detail::BvhAccess;
+  const detail::BvhData& data = A::data(bvh);
+  const detail::EntryTable& entries = A::entries(bvh);
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    counts[i] =
+        entries.bvh_intersect_all(data, rays[i], out.data() + i * per_ray, nullptr, per_ray);
+}
+
 }  // namespace sphray

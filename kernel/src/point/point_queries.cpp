@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "bvh/bvh_data.hpp"
 #include "dispatch/entry_table.hpp"
@@ -31,6 +32,11 @@ Nearest nearest_result(SphereView spheres, std::size_t slot, Vec3 point, float m
 }  // namespace detail
 
 namespace {
+
+void check_batch(std::size_t points, std::size_t out) {
+  if (points != out)
+    throw std::length_error("sphray: expected one answer per point (out.size() == points.size())");
+}
 
 std::size_t collect(std::span<std::uint32_t> out, bool first_only, auto&& query) {
   detail::IdCollector ids{out.data(), first_only ? 0 : out.size(), first_only};
@@ -80,6 +86,32 @@ std::size_t overlapping(const SphereBVH& bvh, Vec3 centre, float radius,
   return collect(out, false, [&](detail::IdCollector& ids) {
     A::entries(bvh).bvh_overlapping(A::data(bvh), centre, radius, ids);
   });
+}
+
+void nearest(SphereView spheres, std::span<const Vec3> points, std::span<Nearest> out,
+             float max_distance) {
+  check_batch(points.size(), out.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    out[i] = nearest(spheres, points[i], max_distance);
+}
+
+void nearest(const SphereBVH& bvh, std::span<const Vec3> points, std::span<Nearest> out,
+             float max_distance) {
+  check_batch(points.size(), out.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    out[i] = nearest(bvh, points[i], max_distance);
+}
+
+void inside(SphereView spheres, std::span<const Vec3> points, std::span<bool> out) {
+  check_batch(points.size(), out.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    out[i] = inside(spheres, points[i]);
+}
+
+void inside(const SphereBVH& bvh, std::span<const Vec3> points, std::span<bool> out) {
+  check_batch(points.size(), out.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    out[i] = inside(bvh, points[i]);
 }
 
 }  // namespace sphray

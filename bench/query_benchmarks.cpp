@@ -1,0 +1,206 @@
+// The queries beyond the closest hit (docs/queries.md), timed against the closest hit on the
+// same rays: every crossing, their count, and the point queries, through the tree and by brute
+// force where the scene is small. Each is checked against the scalar reference on a sample
+// before it is timed. Names: queries/<scene>/<query>/<tree|brute>/threads:1.
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "implementations.hpp"
+#include "workload.hpp"
+
+namespace sphray::bench {
+namespace {
+
+constexpr std::size_t kPoints = 1 << 16;
+constexpr std::size_t kSample = 256;
+constexpr std::size_t kAllHitsRoom = 16;
+
+struct Queries {
+  const SphereBVH* tree = nullptr;  // null: brute force over the view
+  SphereView view;
+  float overlap_radius = 0.0f;
+};
+
+std::vector<Vec3> random_points(const Box& box, std::size_t count) {
+  std::mt19937 rng(2026);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<Vec3> points(count);
+  for (Vec3& p : points)
+    p = {box.lo.x + (box.hi.x - box.lo.x) * u(rng), box.lo.y + (box.hi.y - box.lo.y) * u(rng),
+         box.lo.z + (box.hi.z - box.lo.z) * u(rng)};
+  return points;
+}
+
+// One query over a ray or a point, returning something to keep (and to check against the
+// scalar reference: equal answers give equal values).
+
+std::size_t closest(const Queries& q, const Ray& r) {
+  const Hit h = q.tree ? intersect(*q.tree, r) : intersect(q.view, r);
+  return h.id;
+}
+std::size_t any_hit(const Queries& q, const Ray& r) {
+  return q.tree ? occluded(*q.tree, r) : occluded(q.view, r);
+}
+std::size_t count(const Queries& q, const Ray& r) {
+  return q.tree ? count_hits(*q.tree, r) : count_hits(q.view, r);
+}
+std::size_t all_hits(const Queries& q, const Ray& r) {
+  std::array<Hit, kAllHitsRoom> out;
+  const std::size_t n = q.tree ? intersect_all(*q.tree, r, out) : intersect_all(q.view, r, out);
+  return n == 0 ? 0 : n * 31 + out[0].id;
+}
+std::size_t nearest_id(const Queries& q, Vec3 p) {
+  return (q.tree ? nearest(*q.tree, p) : nearest(q.view, p)).id;
+}
+std::size_t occupied(const Queries& q, Vec3 p) {
+  return q.tree ? inside(*q.tree, p) : inside(q.view, p);
+}
+std::size_t overlaps(const Queries& q, Vec3 p) {
+  std::array<std::uint32_t, 16> ids;
+  return q.tree ? overlapping(*q.tree, p, q.overlap_radius, ids)
+                : overlapping(q.view, p, q.overlap_radius, ids);
+}
+
+// A scene's spheres, rays, points and tree, kept while its benchmarks run (they run in order of
+// registration, one scene after the other).
+struct Scene {
+  std::string name;
+  SphereSoA spheres;
+  std::vector<Ray> rays, brute_rays;
+  std::vector<Vec3> points;
+  SphereBVH tree;
+  float median_radius = 0.0f;
+};
+
+const Scene& scene(std::string_view name) {
+  static std::unique_ptr<Scene> kept;
+  if (kept && kept->name == name) return *kept;
+  kept.reset();
+  const Workload& w = workload(name, RayKind::incoherent);
+  auto s = std::make_unique<Scene>();
+  s->name = name;
+  s->spheres = w.spheres;
+  s->rays = w.rays;
+  s->brute_rays = w.brute_rays;
+  s->points = random_points(scene_box(w.spheres), kPoints);
+  s->tree = SphereBVH(s->spheres.view());
+  std::vector<float> radii(s->spheres.view().radius, s->spheres.view().radius + s->spheres.size());
+  std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2),
+                   radii.end());
+  s->median_radius = radii[radii.size() / 2];
+  kept = std::move(s);
+  return *kept;
+}
+
+template <class Item, class Query>
+void run(benchmark::State& state, std::string_view scene_name, bool tree, Query query,
+         std::size_t (*reference)(const Queries&, const Item&)) {
+  const Scene& s = scene(scene_name);
+  const Queries q{tree ? &s.tree : nullptr, s.spheres.view(), s.median_radius};
+  const Queries ref{nullptr, s.spheres.view(), s.median_radius};
+  std::vector<Item> items;
+  if constexpr (std::is_same_v<Item, Ray>) {
+    items = tree ? s.rays : s.brute_rays;
+  } else {
+    items = s.points;
+    if (!tree) items.resize(std::min(items.size(), s.brute_rays.size()));
+  }
+  // Checked on a sample against the scalar reference's answers.
+  for (std::size_t i = 0; i < std::min(kSample, items.size()); ++i) {
+    if (query(q, items[i]) != reference(ref, items[i])) {
+      state.SkipWithError("disagrees with the scalar reference");
+      return;
+    }
+  }
+  std::size_t sink = 0;
+  for (auto _ : state) {
+    for (const Item& item : items)
+      sink += query(q, item);
+    benchmark::DoNotOptimize(sink);
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(items.size()));
+  state.counters["spheres"] = static_cast<double>(s.spheres.size());
+  state.counters["queries"] = static_cast<double>(items.size());
+}
+
+// The scalar reference's answers, in the form each query above returns.
+std::size_t ref_closest(const Queries& q, const Ray& r) {
+  return scalar::intersect(q.view, r).id;
+}
+std::size_t ref_any(const Queries& q, const Ray& r) {
+  return scalar::occluded(q.view, r);
+}
+std::size_t ref_count(const Queries& q, const Ray& r) {
+  return scalar::intersect_all(q.view, r, {}, {});
+}
+std::size_t ref_all(const Queries& q, const Ray& r) {
+  std::array<Hit, kAllHitsRoom> out;
+  const std::size_t n = scalar::intersect_all(q.view, r, out, {});
+  return n == 0 ? 0 : n * 31 + out[0].id;
+}
+std::size_t ref_nearest(const Queries& q, const Vec3& p) {
+  return scalar::nearest(q.view, p).id;
+}
+std::size_t ref_inside(const Queries& q, const Vec3& p) {
+  return scalar::overlapping(q.view, p, 0.0f, {}) > 0;
+}
+std::size_t ref_overlaps(const Queries& q, const Vec3& p) {
+  std::array<std::uint32_t, 16> ids;
+  return scalar::overlapping(q.view, p, q.overlap_radius, ids);
+}
+
+}  // namespace
+
+void register_query_benchmarks() {
+  struct RayRow {
+    const char* name;
+    std::size_t (*query)(const Queries&, const Ray&);
+    std::size_t (*reference)(const Queries&, const Ray&);
+  };
+  struct PointRow {
+    const char* name;
+    std::size_t (*query)(const Queries&, Vec3);
+    std::size_t (*reference)(const Queries&, const Vec3&);
+  };
+  static const RayRow rays[] = {{"closest", closest, ref_closest},
+                                {"occluded", any_hit, ref_any},
+                                {"count_hits", count, ref_count},
+                                {"intersect_all16", all_hits, ref_all}};
+  static const PointRow points[] = {{"nearest", nearest_id, ref_nearest},
+                                    {"inside", occupied, ref_inside},
+                                    {"overlapping", overlaps, ref_overlaps}};
+  for (std::string_view scene_name :
+       {std::string_view("random:4096"), std::string_view("random:65536")}) {
+    for (const bool tree : {true, false}) {
+      if (!tree && scene_name != "random:4096") continue;  // brute force: the small scene only
+      const std::string how = tree ? "tree" : "brute";
+      for (const RayRow& r : rays) {
+        const std::string name =
+            "queries/" + std::string(scene_name) + "/" + r.name + "/" + how + "/threads:1";
+        benchmark::RegisterBenchmark(
+            name.c_str(),
+            [=](benchmark::State& s) { run<Ray>(s, scene_name, tree, r.query, r.reference); })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
+      }
+      for (const PointRow& p : points) {
+        const std::string name =
+            "queries/" + std::string(scene_name) + "/" + p.name + "/" + how + "/threads:1";
+        benchmark::RegisterBenchmark(
+            name.c_str(),
+            [=](benchmark::State& s) { run<Vec3>(s, scene_name, tree, p.query, p.reference); })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
+      }
+    }
+  }
+}
+
+}  // namespace sphray::bench
