@@ -45,12 +45,14 @@ SPHRAY_API std::size_t count_hits(const SphereBVH& bvh, const Ray& ray);
 /// Batch forms, one answer per ray: counts[i] = count_hits(spheres, rays[i]); and the first
 /// per_ray crossings of rays[i] in out[i * per_ray ...], their total in counts[i]. Throw
 /// std::length_error unless counts.size() == rays.size() and out.size() == rays.size() * per_ray.
-void count_hits(SphereView spheres, std::span<const Ray> rays, std::span<std::size_t> counts);
-void count_hits(const SphereBVH& bvh, std::span<const Ray> rays, std::span<std::size_t> counts);
-void intersect_all(SphereView spheres, std::span<const Ray> rays, std::span<Hit> out,
-                   std::size_t per_ray, std::span<std::size_t> counts);
-void intersect_all(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> out,
-                   std::size_t per_ray, std::span<std::size_t> counts);
+SPHRAY_API void count_hits(SphereView spheres, std::span<const Ray> rays,
+                           std::span<std::size_t> counts);
+SPHRAY_API void count_hits(const SphereBVH& bvh, std::span<const Ray> rays,
+                           std::span<std::size_t> counts);
+SPHRAY_API void intersect_all(SphereView spheres, std::span<const Ray> rays, std::span<Hit> out,
+                              std::size_t per_ray, std::span<std::size_t> counts);
+SPHRAY_API void intersect_all(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> out,
+                              std::size_t per_ray, std::span<std::size_t> counts);
 
 namespace scalar {
 /// The reference implementation, one sphere at a time.

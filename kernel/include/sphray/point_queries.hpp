@@ -56,12 +56,12 @@ SPHRAY_API std::size_t overlapping(const SphereBVH& bvh, Vec3 centre, float radi
 
 /// Batch forms, one answer per point: out[i] = nearest(spheres, points[i], max_distance) and
 /// inside(spheres, points[i]). Throw std::length_error unless out.size() == points.size().
-void nearest(SphereView spheres, std::span<const Vec3> points, std::span<Nearest> out,
-             float max_distance = kAnyDistance);
-void nearest(const SphereBVH& bvh, std::span<const Vec3> points, std::span<Nearest> out,
-             float max_distance = kAnyDistance);
-void inside(SphereView spheres, std::span<const Vec3> points, std::span<bool> out);
-void inside(const SphereBVH& bvh, std::span<const Vec3> points, std::span<bool> out);
+SPHRAY_API void nearest(SphereView spheres, std::span<const Vec3> points, std::span<Nearest> out,
+                        float max_distance = kAnyDistance);
+SPHRAY_API void nearest(const SphereBVH& bvh, std::span<const Vec3> points, std::span<Nearest> out,
+                        float max_distance = kAnyDistance);
+SPHRAY_API void inside(SphereView spheres, std::span<const Vec3> points, std::span<bool> out);
+SPHRAY_API void inside(const SphereBVH& bvh, std::span<const Vec3> points, std::span<bool> out);
 
 namespace scalar {
 /// The reference implementations, one sphere at a time.
