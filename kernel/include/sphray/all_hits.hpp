@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <span>
 
+#include "sphray/api.h"
 #include "sphray/bvh.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
@@ -26,35 +27,37 @@
 namespace sphray {
 
 /// The first out.size() crossings of ray with the spheres, sorted; returns their total number.
-std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out);
+SPHRAY_API std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out);
 /// As above, and exits[i] tells whether out[i] is where the ray leaves its sphere. exits is
 /// empty (not wanted) or out.size() long.
-std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out,
-                          std::span<bool> exits);
+SPHRAY_API std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out,
+                                     std::span<bool> exits);
 /// The number of crossings of ray with the spheres in (tmin, tmax).
-std::size_t count_hits(SphereView spheres, const Ray& ray);
+SPHRAY_API std::size_t count_hits(SphereView spheres, const Ray& ray);
 
 /// The same queries through a tree: the same results as on the spheres it was built (or last
 /// refitted) from.
-std::size_t intersect_all(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out);
-std::size_t intersect_all(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out,
-                          std::span<bool> exits);
-std::size_t count_hits(const SphereBVH& bvh, const Ray& ray);
+SPHRAY_API std::size_t intersect_all(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out);
+SPHRAY_API std::size_t intersect_all(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out,
+                                     std::span<bool> exits);
+SPHRAY_API std::size_t count_hits(const SphereBVH& bvh, const Ray& ray);
 
 /// Batch forms, one answer per ray: counts[i] = count_hits(spheres, rays[i]); and the first
 /// per_ray crossings of rays[i] in out[i * per_ray ...], their total in counts[i]. Throw
 /// std::length_error unless counts.size() == rays.size() and out.size() == rays.size() * per_ray.
-void count_hits(SphereView spheres, std::span<const Ray> rays, std::span<std::size_t> counts);
-void count_hits(const SphereBVH& bvh, std::span<const Ray> rays, std::span<std::size_t> counts);
-void intersect_all(SphereView spheres, std::span<const Ray> rays, std::span<Hit> out,
-                   std::size_t per_ray, std::span<std::size_t> counts);
-void intersect_all(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> out,
-                   std::size_t per_ray, std::span<std::size_t> counts);
+SPHRAY_API void count_hits(SphereView spheres, std::span<const Ray> rays,
+                           std::span<std::size_t> counts);
+SPHRAY_API void count_hits(const SphereBVH& bvh, std::span<const Ray> rays,
+                           std::span<std::size_t> counts);
+SPHRAY_API void intersect_all(SphereView spheres, std::span<const Ray> rays, std::span<Hit> out,
+                              std::size_t per_ray, std::span<std::size_t> counts);
+SPHRAY_API void intersect_all(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> out,
+                              std::size_t per_ray, std::span<std::size_t> counts);
 
 namespace scalar {
 /// The reference implementation, one sphere at a time.
-std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out,
-                          std::span<bool> exits);
+SPHRAY_API std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out,
+                                     std::span<bool> exits);
 }  // namespace scalar
 
 }  // namespace sphray

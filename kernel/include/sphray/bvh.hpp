@@ -20,6 +20,7 @@
 #include <memory>
 #include <span>
 
+#include "sphray/api.h"
 #include "sphray/isa.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
@@ -42,7 +43,7 @@ struct BvhBuildOptions {
   std::size_t parallel_min = 16384;
 };
 
-class SphereBVH {
+class SPHRAY_API SphereBVH {
  public:
   /// An empty tree (no spheres), for the active instruction set.
   SphereBVH();
@@ -85,13 +86,13 @@ class SphereBVH {
 
 /// Closest hit of ray among the tree's spheres: the same result as intersect(view, ray) on the
 /// spheres it was built (or last refitted) from.
-Hit intersect(const SphereBVH& bvh, const Ray& ray);
+SPHRAY_API Hit intersect(const SphereBVH& bvh, const Ray& ray);
 
 /// True if any sphere is hit in (tmin, tmax).
-bool occluded(const SphereBVH& bvh, const Ray& ray);
+SPHRAY_API bool occluded(const SphereBVH& bvh, const Ray& ray);
 
 /// hits[i] = intersect(bvh, rays[i]). Throws std::length_error unless
 /// hits.size() == rays.size().
-void intersect(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> hits);
+SPHRAY_API void intersect(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> hits);
 
 }  // namespace sphray

@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 
+#include "sphray/api.h"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
 
@@ -20,14 +21,14 @@ namespace sphray {
 enum class Isa { scalar, sse4_2, avx2, avx512, neon };
 
 /// "scalar", "sse4.2", "avx2", "avx512", "neon": the names SPHRAY_ISA takes.
-std::string_view isa_name(Isa isa);
+SPHRAY_API std::string_view isa_name(Isa isa);
 /// The Isa a name stands for, or nothing if it names none.
-std::optional<Isa> parse_isa(std::string_view name);
+SPHRAY_API std::optional<Isa> parse_isa(std::string_view name);
 /// The number of spheres one batch of this instruction set holds (1 for scalar).
-std::size_t isa_width(Isa isa);
+SPHRAY_API std::size_t isa_width(Isa isa);
 
 /// The instruction sets this build has and this machine can run, best first.
-std::span<const Isa> supported_isas();
+SPHRAY_API std::span<const Isa> supported_isas();
 
 /// What a SPHRAY_ISA value (nullptr: unset) selects on this machine, and a message to print
 /// if it could not be honoured (empty otherwise). Pure: reads no environment.
@@ -35,8 +36,8 @@ struct IsaChoice {
   Isa isa;
   std::string message;
 };
-IsaChoice choose_isa(const char* requested);
+SPHRAY_API IsaChoice choose_isa(const char* requested);
 
 /// The instruction set the queries in query.hpp use (SPHRAY_ISA read once, on first use).
-Isa active_isa();
+SPHRAY_API Isa active_isa();
 }  // namespace sphray

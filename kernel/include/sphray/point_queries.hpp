@@ -22,6 +22,7 @@
 #include <limits>
 #include <span>
 
+#include "sphray/api.h"
 #include "sphray/bvh.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
@@ -38,35 +39,35 @@ struct Nearest {
 inline constexpr float kAnyDistance = std::numeric_limits<float>::infinity();
 
 /// The sphere nearest point whose signed distance is at most max_distance.
-Nearest nearest(SphereView spheres, Vec3 point, float max_distance = kAnyDistance);
+SPHRAY_API Nearest nearest(SphereView spheres, Vec3 point, float max_distance = kAnyDistance);
 /// Whether point lies inside any sphere.
-bool inside(SphereView spheres, Vec3 point);
+SPHRAY_API bool inside(SphereView spheres, Vec3 point);
 /// The spheres overlapping the ball (centre, radius), ascending by id: the first out.size()
 /// into out; returns their total number.
-std::size_t overlapping(SphereView spheres, Vec3 centre, float radius,
-                        std::span<std::uint32_t> out);
+SPHRAY_API std::size_t overlapping(SphereView spheres, Vec3 centre, float radius,
+                                   std::span<std::uint32_t> out);
 
 /// The same through a tree, walked by distance: the same results as on the spheres it was
 /// built (or last refitted) from.
-Nearest nearest(const SphereBVH& bvh, Vec3 point, float max_distance = kAnyDistance);
-bool inside(const SphereBVH& bvh, Vec3 point);
-std::size_t overlapping(const SphereBVH& bvh, Vec3 centre, float radius,
-                        std::span<std::uint32_t> out);
+SPHRAY_API Nearest nearest(const SphereBVH& bvh, Vec3 point, float max_distance = kAnyDistance);
+SPHRAY_API bool inside(const SphereBVH& bvh, Vec3 point);
+SPHRAY_API std::size_t overlapping(const SphereBVH& bvh, Vec3 centre, float radius,
+                                   std::span<std::uint32_t> out);
 
 /// Batch forms, one answer per point: out[i] = nearest(spheres, points[i], max_distance) and
 /// inside(spheres, points[i]). Throw std::length_error unless out.size() == points.size().
-void nearest(SphereView spheres, std::span<const Vec3> points, std::span<Nearest> out,
-             float max_distance = kAnyDistance);
-void nearest(const SphereBVH& bvh, std::span<const Vec3> points, std::span<Nearest> out,
-             float max_distance = kAnyDistance);
-void inside(SphereView spheres, std::span<const Vec3> points, std::span<bool> out);
-void inside(const SphereBVH& bvh, std::span<const Vec3> points, std::span<bool> out);
+SPHRAY_API void nearest(SphereView spheres, std::span<const Vec3> points, std::span<Nearest> out,
+                        float max_distance = kAnyDistance);
+SPHRAY_API void nearest(const SphereBVH& bvh, std::span<const Vec3> points, std::span<Nearest> out,
+                        float max_distance = kAnyDistance);
+SPHRAY_API void inside(SphereView spheres, std::span<const Vec3> points, std::span<bool> out);
+SPHRAY_API void inside(const SphereBVH& bvh, std::span<const Vec3> points, std::span<bool> out);
 
 namespace scalar {
 /// The reference implementations, one sphere at a time.
-Nearest nearest(SphereView spheres, Vec3 point, float max_distance = kAnyDistance);
-std::size_t overlapping(SphereView spheres, Vec3 centre, float radius,
-                        std::span<std::uint32_t> out);
+SPHRAY_API Nearest nearest(SphereView spheres, Vec3 point, float max_distance = kAnyDistance);
+SPHRAY_API std::size_t overlapping(SphereView spheres, Vec3 centre, float radius,
+                                   std::span<std::uint32_t> out);
 }  // namespace scalar
 
 }  // namespace sphray

@@ -16,25 +16,26 @@
 
 #include <span>
 
+#include "sphray/api.h"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
 
 namespace sphray {
 
 /// Closest hit of ray among spheres, on the instruction set active_isa() names.
-Hit intersect(SphereView spheres, const Ray& ray);
+SPHRAY_API Hit intersect(SphereView spheres, const Ray& ray);
 
 /// True if any sphere is hit in (tmin, tmax); returns at the first hit found.
-bool occluded(SphereView spheres, const Ray& ray);
+SPHRAY_API bool occluded(SphereView spheres, const Ray& ray);
 
 /// hits[i] = intersect(spheres, rays[i]). Throws std::length_error unless
 /// hits.size() == rays.size().
-void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hits);
+SPHRAY_API void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hits);
 
 /// The surface where hit meets ray: the point re-projected onto the sphere and the outward
 /// unit normal. For a miss (!hit.found()) or an id outside the view: point = ray.at(hit.t),
 /// normal = {0, 0, 0}, front_face = false.
-Surface surface(SphereView spheres, const Ray& ray, const Hit& hit);
+SPHRAY_API Surface surface(SphereView spheres, const Ray& ray, const Hit& hit);
 
 /// The ray leaving surface along dir (any length, not zero): its origin is surface.point moved
 /// along the normal, to the side dir points to, just past surface.error, so that a ray leaving
@@ -42,16 +43,16 @@ Surface surface(SphereView spheres, const Ray& ray, const Hit& hit);
 /// meets the sphere's far side, never the point it starts from. tmin = 0, tmax = infinity.
 /// The guarantee and its limits: docs/kernel.md, "Leaving a surface". A surface from a miss
 /// (zero normal and error) gives the ray from surface.point.
-Ray spawn(const Surface& surface, Vec3 dir);
+SPHRAY_API Ray spawn(const Surface& surface, Vec3 dir);
 
 /// The origin of spawn(surface, dir), for callers that build their own rays (pbrt-v4's
 /// OffsetRayOrigin).
-Vec3 offset_origin(const Surface& surface, Vec3 dir);
+SPHRAY_API Vec3 offset_origin(const Surface& surface, Vec3 dir);
 
 /// The reference implementation: the same contract in plain C++, one sphere at a time.
 namespace scalar {
-Hit intersect(SphereView spheres, const Ray& ray);
-bool occluded(SphereView spheres, const Ray& ray);
+SPHRAY_API Hit intersect(SphereView spheres, const Ray& ray);
+SPHRAY_API bool occluded(SphereView spheres, const Ray& ray);
 }  // namespace scalar
 
 }  // namespace sphray

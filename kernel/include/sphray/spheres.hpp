@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "sphray/api.h"
 #include "sphray/ray.hpp"
 #include "sphray/vec3.hpp"
 
@@ -35,7 +36,7 @@ struct SphereView {
 /// Owning structure-of-arrays sphere storage. Each array starts on a kAlignment-byte boundary
 /// and is padded with never-hit spheres to a multiple of kPadding, the widest SIMD batch, so
 /// the kernel never handles a partial batch on its views. Ids are insertion indices.
-class SphereSoA {
+class SPHRAY_API SphereSoA {
  public:
   static constexpr std::size_t kAlignment = 64;
   static constexpr std::size_t kPadding = 16;

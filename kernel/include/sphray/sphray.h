@@ -1,0 +1,148 @@
+/* sphray's C API: the same queries as the C++ API (sphray.hpp), through a stable C ABI, for
+ * tracers written in C, Rust, Zig, Julia, .NET or anything else with a C foreign-function
+ * interface. C99; includable from C and C++; no C++ type crosses it.
+ *
+ *   sphray_scene* scene;
+ *   if (sphray_scene_create(cx, cy, cz, r, n, 0, SPHRAY_ACCEL_AUTO, &scene) != SPHRAY_OK)
+ *     fprintf(stderr, "%s\n", sphray_last_error());
+ *   sphray_intersect(scene, rays, hits, ray_count);   // hits[i].id == SPHRAY_NO_HIT: a miss
+ *   sphray_scene_release(scene);
+ *
+ * The contract is the C++ API's (docs/kernel.md) and so are the results, bit for bit: these
+ * functions only check their arguments and forward to it. Every function that can fail
+ * returns SPHRAY_OK (0) or one of the error codes below and then sets a message for the
+ * calling thread (sphray_last_error()); none throws, aborts or crashes on bad arguments.
+ * Threading: any number of threads may query the same scene at once; create, refit and
+ * release must not run concurrently with anything else on the same scene.
+ * ABI: docs/kernel.md, "From C and other languages"; the library's SONAME is libsphray.so.0. */
+#ifndef SPHRAY_SPHRAY_H
+#define SPHRAY_SPHRAY_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sphray/api.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Status codes. Values never change; new codes may be added. */
+#define SPHRAY_OK 0
+#define SPHRAY_ERROR_NULL_POINTER 1     /* a required pointer argument is NULL */
+#define SPHRAY_ERROR_INVALID_ARGUMENT 2 /* a count of 0, a bad stride, accel or alignment */
+#define SPHRAY_ERROR_TOO_LARGE 3        /* a count over the library's limits */
+#define SPHRAY_ERROR_OUT_OF_MEMORY 4    /* an allocation failed; nothing was changed */
+#define SPHRAY_ERROR_RELEASED_SCENE 5   /* the scene handle was released */
+#define SPHRAY_ERROR_INTERNAL 6         /* anything else the library caught; a bug */
+
+/* How a scene answers queries. AUTO: a BVH from 128 spheres on, brute force below (the
+ * renderer's measured crossover, docs/bvh.md). Both give the same hits, bit for bit. */
+#define SPHRAY_ACCEL_AUTO 0
+#define SPHRAY_ACCEL_BRUTE 1
+#define SPHRAY_ACCEL_BVH 2
+
+/* The id of a miss. */
+#define SPHRAY_NO_HIT 0xffffffffu
+
+/* The points (ox, oy, oz) + t (dx, dy, dz) for tmin < t < tmax. The direction need not be unit
+ * length. For an infinite tmax use INFINITY (math.h). */
+typedef struct sphray_ray {
+  float ox, oy, oz;
+  float dx, dy, dz;
+  float tmin, tmax;
+} sphray_ray;
+
+/* A closest hit: sphere id and ray parameter t; a miss has id == SPHRAY_NO_HIT, t == tmax. */
+typedef struct sphray_hit {
+  float t;
+  uint32_t id;
+} sphray_hit;
+
+/* Where a ray meets its hit sphere: the point on the sphere, the outward unit normal,
+ * front_face (1: the ray arrived from outside, 0 otherwise) and the point's error bound per
+ * coordinate, which sphray_spawn() uses. A miss gives point = the ray at tmax, normal and
+ * error 0, front_face 0. */
+typedef struct sphray_hit_surface {
+  float px, py, pz;
+  float nx, ny, nz;
+  float ex, ey, ez;
+  int32_t front_face;
+} sphray_hit_surface;
+
+/* A scene: an owned copy of the spheres, and the BVH when it has one. Opaque. */
+typedef struct sphray_scene sphray_scene;
+
+/* "0.1.0": the library's version (not the ABI's: that is the SONAME's 0). */
+SPHRAY_API const char* sphray_version(void);
+
+/* The instruction set the queries run on: "scalar", "sse4.2", "avx2", "avx512" or "neon"
+ * (SPHRAY_ISA in the environment forces one, as for the C++ API). */
+SPHRAY_API const char* sphray_active_isa(void);
+
+/* The message of the last failure on the calling thread ("" if none yet). A successful call
+ * leaves it as it was: read it only after a non-zero status. Valid until the thread's next
+ * call into the library. */
+SPHRAY_API const char* sphray_last_error(void);
+
+/* A fixed name for a status code: "SPHRAY_OK", "SPHRAY_ERROR_NULL_POINTER", ... */
+SPHRAY_API const char* sphray_status_name(int status);
+
+/* Copies count spheres into a new scene: sphere i has centre (cx[i], cy[i], cz[i]), radius r[i]
+ * and id i. stride_bytes is the distance between consecutive values of each array: 0 for
+ * packed floats (4), or e.g. sizeof(struct my_sphere) to read an array of structures through
+ * pointers to the first one's fields. The arrays may be freed after the call. Errors: NULL
+ * pointer (any argument), invalid argument (count 0, stride not 0 and not a positive multiple
+ * of 4, a pointer not aligned for float, accel unknown), too large (count over 2^32 - 1, the
+ * ids' range, or a tree that does not fit), out of memory. On failure *out is untouched. */
+SPHRAY_API int sphray_scene_create(const float* cx, const float* cy, const float* cz,
+                                   const float* r, size_t count, size_t stride_bytes, int accel,
+                                   sphray_scene** out);
+
+/* New centres and radii for the same spheres (same count, same ids): the brute-force copy is
+ * replaced, a BVH refitted (its shape kept: docs/bvh.md). Same arguments and errors as
+ * sphray_scene_create, and invalid argument when count differs from the scene's. */
+SPHRAY_API int sphray_scene_refit(sphray_scene* scene, const float* cx, const float* cy,
+                                  const float* cz, const float* r, size_t count,
+                                  size_t stride_bytes);
+
+/* The scene's sphere count, in *count. */
+SPHRAY_API int sphray_scene_size(const sphray_scene* scene, size_t* count);
+
+/* Frees the scene's spheres and tree. The handle then reports SPHRAY_ERROR_RELEASED_SCENE
+ * wherever it is passed (the small handle itself is recycled by a later sphray_scene_create,
+ * after which a stale copy names the new scene: do not keep one). */
+SPHRAY_API int sphray_scene_release(sphray_scene* scene);
+
+/* hits[i] = the closest hit of rays[i], for i < count. */
+SPHRAY_API int sphray_intersect(const sphray_scene* scene, const sphray_ray* rays, sphray_hit* hits,
+                                size_t count);
+
+/* occluded[i] = 1 if rays[i] hits any sphere in (tmin, tmax), else 0. */
+SPHRAY_API int sphray_occluded(const sphray_scene* scene, const sphray_ray* rays,
+                               unsigned char* occluded, size_t count);
+
+/* sphray_intersect and sphray_occluded on up to `threads` threads (0: one per core) for large
+ * counts; the same results, in the same places, whatever the thread count. */
+SPHRAY_API int sphray_intersect_parallel(const sphray_scene* scene, const sphray_ray* rays,
+                                         sphray_hit* hits, size_t count, unsigned threads);
+SPHRAY_API int sphray_occluded_parallel(const sphray_scene* scene, const sphray_ray* rays,
+                                        unsigned char* occluded, size_t count, unsigned threads);
+
+/* surfaces[i] = where rays[i] meets the sphere of hits[i] (a hit from sphray_intersect on the
+ * same scene; a miss or an id outside the scene gives the miss surface). */
+SPHRAY_API int sphray_surface(const sphray_scene* scene, const sphray_ray* rays,
+                              const sphray_hit* hits, sphray_hit_surface* surfaces, size_t count);
+
+/* rays[i] = the ray leaving surfaces[i] along the direction (dirs[3i], dirs[3i+1], dirs[3i+2])
+ * (any non-zero length): its origin is offset past the surface's error bound so that it never
+ * meets the sphere it leaves again (docs/kernel.md, "Leaving a surface"); tmin 0, tmax
+ * infinity. */
+SPHRAY_API int sphray_spawn(const sphray_hit_surface* surfaces, const float* dirs, sphray_ray* rays,
+                            size_t count);
+
+#ifdef __cplusplus
+} /* extern "C" */
+#endif
+
+#endif /* SPHRAY_SPHRAY_H */

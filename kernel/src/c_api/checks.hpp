@@ -1,0 +1,46 @@
+// The argument checks the C functions share. Each returns SPHRAY_OK or the failure's status,
+// with the calling thread's message set.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "c_api/last_error.hpp"
+#include "c_api/scene_handle.hpp"
+
+namespace sphray::c_api {
+
+/// The most elements a ray, hit or surface array may have: beyond it the array would not fit
+/// in the address space (its byte size would exceed PTRDIFF_MAX), so the count is a bug.
+inline constexpr std::size_t kMaxElements = PTRDIFF_MAX / sizeof(sphray_hit_surface);
+
+inline int check_pointer(const void* p, const char* function, const char* name) noexcept {
+  return p != nullptr ? SPHRAY_OK : fail(SPHRAY_ERROR_NULL_POINTER, function, name);
+}
+
+inline int check_count(std::size_t count, const char* function) noexcept {
+  if (count == 0) return fail(SPHRAY_ERROR_INVALID_ARGUMENT, function, "count is 0");
+  if (count > kMaxElements)
+    return fail(SPHRAY_ERROR_TOO_LARGE, function, "count exceeds PTRDIFF_MAX / 40");
+  return SPHRAY_OK;
+}
+
+/// A live scene: not NULL, not released.
+inline int check_scene(const sphray_scene* scene, const char* function) noexcept {
+  if (scene == nullptr) return fail(SPHRAY_ERROR_NULL_POINTER, function, "scene is NULL");
+  if (scene->magic != sphray_scene::kLive || scene->scene == nullptr)
+    return fail(SPHRAY_ERROR_RELEASED_SCENE, function, "scene was released");
+  return SPHRAY_OK;
+}
+
+/// A query's arguments: a live scene, the two arrays, a count in range.
+inline int check_query(const sphray_scene* scene, const void* in, const void* out,
+                       std::size_t count, const char* function) noexcept {
+  int status = check_scene(scene, function);
+  if (status == SPHRAY_OK) status = check_pointer(in, function, "rays is NULL");
+  if (status == SPHRAY_OK) status = check_pointer(out, function, "output array is NULL");
+  if (status == SPHRAY_OK) status = check_count(count, function);
+  return status;
+}
+
+}  // namespace sphray::c_api

@@ -1,0 +1,53 @@
+// sphray_version, sphray_active_isa, sphray_last_error, sphray_status_name.
+#include "c_api/last_error.hpp"
+#include "sphray/sphray.h"
+#include "sphray/sphray.hpp"
+
+extern "C" {
+
+const char* sphray_version(void) {
+  return sphray::kVersion;
+}
+
+const char* sphray_active_isa(void) {
+  // C strings with static storage; isa_name() returns views of the same names.
+  switch (sphray::active_isa()) {
+    case sphray::Isa::scalar:
+      return "scalar";
+    case sphray::Isa::sse4_2:
+      return "sse4.2";
+    case sphray::Isa::avx2:
+      return "avx2";
+    case sphray::Isa::avx512:
+      return "avx512";
+    case sphray::Isa::neon:
+      return "neon";
+  }
+  return "unknown";
+}
+
+const char* sphray_last_error(void) {
+  return sphray::c_api::last_error();
+}
+
+const char* sphray_status_name(int status) {
+  switch (status) {
+    case SPHRAY_OK:
+      return "SPHRAY_OK";
+    case SPHRAY_ERROR_NULL_POINTER:
+      return "SPHRAY_ERROR_NULL_POINTER";
+    case SPHRAY_ERROR_INVALID_ARGUMENT:
+      return "SPHRAY_ERROR_INVALID_ARGUMENT";
+    case SPHRAY_ERROR_TOO_LARGE:
+      return "SPHRAY_ERROR_TOO_LARGE";
+    case SPHRAY_ERROR_OUT_OF_MEMORY:
+      return "SPHRAY_ERROR_OUT_OF_MEMORY";
+    case SPHRAY_ERROR_RELEASED_SCENE:
+      return "SPHRAY_ERROR_RELEASED_SCENE";
+    case SPHRAY_ERROR_INTERNAL:
+      return "SPHRAY_ERROR_INTERNAL";
+  }
+  return "unknown status";
+}
+
+}  // extern "C"

@@ -1,0 +1,258 @@
+// The C API (sphray.h) against the C++ API, through libsphray.so: on a million random rays, the
+// same hits, occlusion, surfaces and spawned rays, bit for bit, on brute force and on the BVH.
+// ctest runs this once per instruction set (SPHRAY_ISA set by tests/kernel/CMakeLists.txt), so
+// every kernel the library carries is checked through the C entry points.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <sphray/sphray.h>
+#include <sphray/sphray.hpp>
+
+namespace {
+
+// Sanitizer presets set SPHRAY_TEST_SCALE to trace a fraction of the rays (test_support.hpp).
+std::size_t scaled(std::size_t n) {
+  const char* text = std::getenv("SPHRAY_TEST_SCALE");
+  const double s = text != nullptr ? std::atof(text) : 1.0;
+  return s > 0.0 && s < 1.0 ? static_cast<std::size_t>(static_cast<double>(n) * s) : n;
+}
+
+float uniform(std::mt19937& rng, float lo, float hi) {
+  return std::uniform_real_distribution<float>(lo, hi)(rng);
+}
+
+// Spheres as a caller's array of structures: the C API reads it through a stride.
+struct CallerSphere {
+  float x, y, z, r;
+};
+
+std::vector<CallerSphere> random_spheres(std::size_t n, std::mt19937& rng) {
+  const float r_mean = 6.0f / std::cbrt(static_cast<float>(n) + 1.0f);
+  std::vector<CallerSphere> spheres(n);
+  for (CallerSphere& s : spheres)
+    s = {uniform(rng, -10, 10), uniform(rng, -10, 10), uniform(rng, -10, 10),
+         r_mean * uniform(rng, 0.3f, 1.7f)};
+  spheres[n / 2].r = -1.0f;  // never hit
+  return spheres;
+}
+
+// Rays from a box around the spheres, any direction length, a few with a finite tmax or a
+// positive tmin, and a few invalid ones (they must miss through both APIs).
+std::vector<sphray_ray> random_rays(std::size_t n, std::mt19937& rng) {
+  std::vector<sphray_ray> rays(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    sphray_ray& r = rays[i];
+    r = {uniform(rng, -12, 12),
+         uniform(rng, -12, 12),
+         uniform(rng, -12, 12),
+         uniform(rng, -1, 1),
+         uniform(rng, -1, 1),
+         uniform(rng, -1, 1),
+         0.0f,
+         INFINITY};
+    const float scale = std::exp(uniform(rng, std::log(0.1f), std::log(10.0f)));
+    r.dx *= scale;
+    r.dy *= scale;
+    r.dz *= scale;
+    if (i % 7 == 1) r.tmax = uniform(rng, 0.5f, 20.0f);
+    if (i % 11 == 2) r.tmin = uniform(rng, 0.0f, 3.0f);
+    if (i % 997 == 3) r.ox = NAN;
+  }
+  return rays;
+}
+
+sphray::Ray to_cpp(const sphray_ray& r) {
+  return {{r.ox, r.oy, r.oz}, {r.dx, r.dy, r.dz}, r.tmin, r.tmax};
+}
+
+bool same_bits(float a, float b) {
+  return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b);
+}
+
+// The scene both APIs query: the C API's copy through the stride, the C++ API's SphereSoA.
+class CApiAgreement : public ::testing::TestWithParam<int> {
+ protected:
+  void SetUp() override {
+    const char* requested = std::getenv("SPHRAY_ISA");
+    if (requested != nullptr && std::string(sphray_active_isa()) != requested)
+      GTEST_SKIP() << "SPHRAY_ISA=" << requested << " does not run on this machine";
+    std::mt19937 rng(2026);
+    const std::size_t n = GetParam() == SPHRAY_ACCEL_BVH ? 2000 : 100;
+    caller_ = random_spheres(n, rng);
+    for (const CallerSphere& s : caller_)
+      spheres_.add({s.x, s.y, s.z}, s.r);
+    if (GetParam() == SPHRAY_ACCEL_BVH) bvh_.emplace(spheres_.view());
+    ASSERT_EQ(sphray_scene_create(&caller_[0].x, &caller_[0].y, &caller_[0].z, &caller_[0].r, n,
+                                  sizeof(CallerSphere), GetParam(), &scene_),
+              SPHRAY_OK)
+        << sphray_last_error();
+    rays_ = random_rays(scaled(1'000'000), rng);
+  }
+  void TearDown() override {
+    if (scene_ != nullptr) {
+      EXPECT_EQ(sphray_scene_release(scene_), SPHRAY_OK);
+    }
+  }
+
+  sphray::Hit cpp_intersect(const sphray_ray& r) const {
+    return bvh_ ? sphray::intersect(*bvh_, to_cpp(r))
+                : sphray::intersect(spheres_.view(), to_cpp(r));
+  }
+  bool cpp_occluded(const sphray_ray& r) const {
+    return bvh_ ? sphray::occluded(*bvh_, to_cpp(r)) : sphray::occluded(spheres_.view(), to_cpp(r));
+  }
+
+  std::vector<CallerSphere> caller_;
+  sphray::SphereSoA spheres_;
+  std::optional<sphray::SphereBVH> bvh_;
+  sphray_scene* scene_ = nullptr;
+  std::vector<sphray_ray> rays_;
+};
+
+TEST_P(CApiAgreement, IntersectMatchesTheCppApiAndTheScalarReference) {
+  std::vector<sphray_hit> hits(rays_.size());
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), hits.data(), rays_.size()), SPHRAY_OK);
+  std::size_t found = 0;
+  for (std::size_t i = 0; i < rays_.size(); ++i) {
+    const sphray::Hit expected = cpp_intersect(rays_[i]);
+    ASSERT_TRUE(hits[i].id == expected.id && same_bits(hits[i].t, expected.t))
+        << "ray " << i << ": C " << hits[i].id << " " << hits[i].t << ", C++ " << expected.id << " "
+        << expected.t;
+    if (hits[i].id != SPHRAY_NO_HIT) ++found;
+  }
+  EXPECT_GT(found, rays_.size() / 10);  // the rays do meet spheres
+  // The scalar reference, on a sample (it tests every sphere for every ray).
+  for (std::size_t i = 0; i < rays_.size(); i += 50) {
+    const sphray::Hit reference = sphray::scalar::intersect(spheres_.view(), to_cpp(rays_[i]));
+    ASSERT_TRUE(hits[i].id == reference.id && same_bits(hits[i].t, reference.t)) << "ray " << i;
+  }
+}
+
+TEST_P(CApiAgreement, OccludedMatchesTheCppApi) {
+  std::vector<unsigned char> occluded(rays_.size(), 7);
+  ASSERT_EQ(sphray_occluded(scene_, rays_.data(), occluded.data(), rays_.size()), SPHRAY_OK);
+  for (std::size_t i = 0; i < rays_.size(); ++i)
+    ASSERT_EQ(occluded[i], cpp_occluded(rays_[i]) ? 1 : 0) << "ray " << i;
+}
+
+TEST_P(CApiAgreement, ParallelCallsMatchTheSerialOnes) {
+  // A tenth of the rays: still 25 chunks of work to share.
+  const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(100'000));
+  std::vector<sphray_hit> serial(n), parallel(n);
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), serial.data(), n), SPHRAY_OK);
+  std::vector<unsigned char> occluded(n), occluded_parallel(n);
+  ASSERT_EQ(sphray_occluded(scene_, rays_.data(), occluded.data(), n), SPHRAY_OK);
+  for (unsigned threads : {0u, 1u, 3u}) {
+    ASSERT_EQ(sphray_intersect_parallel(scene_, rays_.data(), parallel.data(), n, threads),
+              SPHRAY_OK);
+    ASSERT_EQ(std::memcmp(serial.data(), parallel.data(), n * sizeof(sphray_hit)), 0)
+        << threads << " threads";
+    ASSERT_EQ(sphray_occluded_parallel(scene_, rays_.data(), occluded_parallel.data(), n, threads),
+              SPHRAY_OK);
+    ASSERT_EQ(occluded, occluded_parallel) << threads << " threads";
+  }
+}
+
+TEST_P(CApiAgreement, SurfaceAndSpawnMatchTheCppApi) {
+  const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(100'000));
+  std::vector<sphray_hit> hits(n);
+  std::vector<sphray_hit_surface> surfaces(n);
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), hits.data(), n), SPHRAY_OK);
+  ASSERT_EQ(sphray_surface(scene_, rays_.data(), hits.data(), surfaces.data(), n), SPHRAY_OK);
+  std::vector<float> dirs(3 * n);
+  std::mt19937 rng(7);
+  for (float& d : dirs)
+    d = uniform(rng, -1, 1);
+  std::vector<sphray_ray> spawned(n);
+  ASSERT_EQ(sphray_spawn(surfaces.data(), dirs.data(), spawned.data(), n), SPHRAY_OK);
+  for (std::size_t i = 0; i < n; ++i) {
+    const sphray::Surface s =
+        sphray::surface(spheres_.view(), to_cpp(rays_[i]), {hits[i].t, hits[i].id});
+    const sphray_hit_surface& c = surfaces[i];
+    const float expected[9] = {s.point.x,  s.point.y, s.point.z, s.normal.x, s.normal.y,
+                               s.normal.z, s.error.x, s.error.y, s.error.z};
+    const float got[9] = {c.px, c.py, c.pz, c.nx, c.ny, c.nz, c.ex, c.ey, c.ez};
+    for (int k = 0; k < 9; ++k)
+      ASSERT_TRUE(same_bits(got[k], expected[k])) << "ray " << i << " field " << k;
+    ASSERT_EQ(c.front_face, s.front_face ? 1 : 0) << "ray " << i;
+    const sphray::Ray r = sphray::spawn(s, {dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2]});
+    const float expected_ray[8] = {r.origin.x, r.origin.y, r.origin.z, r.dir.x,
+                                   r.dir.y,    r.dir.z,    r.tmin,     r.tmax};
+    const sphray_ray& g = spawned[i];
+    const float got_ray[8] = {g.ox, g.oy, g.oz, g.dx, g.dy, g.dz, g.tmin, g.tmax};
+    for (int k = 0; k < 8; ++k)
+      ASSERT_TRUE(same_bits(got_ray[k], expected_ray[k])) << "ray " << i << " field " << k;
+  }
+}
+
+TEST_P(CApiAgreement, RefitMatchesTheCppApi) {
+  // Every sphere moves and grows a little; the C++ side refits (or, brute force, re-reads).
+  for (std::size_t i = 0; i < caller_.size(); ++i) {
+    caller_[i].x += 0.25f;
+    caller_[i].r *= 1.1f;
+    spheres_.set(static_cast<std::uint32_t>(i), {caller_[i].x, caller_[i].y, caller_[i].z},
+                 caller_[i].r);
+  }
+  if (bvh_) bvh_->refit(spheres_.view());
+  ASSERT_EQ(sphray_scene_refit(scene_, &caller_[0].x, &caller_[0].y, &caller_[0].z, &caller_[0].r,
+                               caller_.size(), sizeof(CallerSphere)),
+            SPHRAY_OK)
+      << sphray_last_error();
+  const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(200'000));
+  std::vector<sphray_hit> hits(n);
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), hits.data(), n), SPHRAY_OK);
+  for (std::size_t i = 0; i < n; ++i) {
+    const sphray::Hit expected = cpp_intersect(rays_[i]);
+    ASSERT_TRUE(hits[i].id == expected.id && same_bits(hits[i].t, expected.t)) << "ray " << i;
+  }
+}
+
+std::string accel_name(const ::testing::TestParamInfo<int>& info) {
+  return info.param == SPHRAY_ACCEL_BVH ? "bvh" : "brute";
+}
+
+INSTANTIATE_TEST_SUITE_P(Accel, CApiAgreement,
+                         ::testing::Values(SPHRAY_ACCEL_BRUTE, SPHRAY_ACCEL_BVH), accel_name);
+
+TEST(CApiInfo, NamesTheActiveIsaAndTheVersion) {
+  EXPECT_EQ(std::string(sphray_active_isa()), std::string(sphray::isa_name(sphray::active_isa())));
+  EXPECT_EQ(std::string(sphray_version()), std::string(sphray::kVersion));
+}
+
+TEST(CApiInfo, AutoAnswersLikeTheReferenceEitherSideOfTheCrossover) {
+  // Which structure AUTO picks is not observable through the results (both give the same
+  // hits): the answers either side of the crossover (128 spheres) must both be right.
+  for (std::size_t n : {std::size_t{127}, std::size_t{128}}) {
+    std::mt19937 rng(static_cast<unsigned>(n));
+    const std::vector<CallerSphere> caller = random_spheres(n, rng);
+    sphray::SphereSoA spheres;
+    for (const CallerSphere& s : caller)
+      spheres.add({s.x, s.y, s.z}, s.r);
+    sphray_scene* scene = nullptr;
+    ASSERT_EQ(sphray_scene_create(&caller[0].x, &caller[0].y, &caller[0].z, &caller[0].r, n,
+                                  sizeof(CallerSphere), SPHRAY_ACCEL_AUTO, &scene),
+              SPHRAY_OK);
+    std::size_t size = 0;
+    ASSERT_EQ(sphray_scene_size(scene, &size), SPHRAY_OK);
+    EXPECT_EQ(size, n);
+    const std::vector<sphray_ray> rays = random_rays(scaled(20'000), rng);
+    std::vector<sphray_hit> hits(rays.size());
+    ASSERT_EQ(sphray_intersect(scene, rays.data(), hits.data(), rays.size()), SPHRAY_OK);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const sphray::Hit expected = sphray::scalar::intersect(spheres.view(), to_cpp(rays[i]));
+      ASSERT_TRUE(hits[i].id == expected.id && same_bits(hits[i].t, expected.t)) << "ray " << i;
+    }
+    EXPECT_EQ(sphray_scene_release(scene), SPHRAY_OK);
+  }
+}
+
+}  // namespace
