@@ -220,6 +220,76 @@ std::string accel_name(const ::testing::TestParamInfo<int>& info) {
   return info.param == SPHRAY_ACCEL_BVH ? "bvh" : "brute";
 }
 
+// The queries beyond the closest hit: every crossing (capped and counted), the counts, the
+// nearest sphere, occupancy and overlaps, as the C++ API answers them.
+TEST_P(CApiAgreement, QueriesBeyondTheClosestHitMatchTheCppApi) {
+  const std::size_t n = std::min<std::size_t>(rays_.size(), 20000);
+  constexpr std::size_t kSlots = 3;
+  std::vector<sphray_hit> hits(n * kSlots, sphray_hit{-1.0f, 7});
+  std::vector<unsigned char> exits(n * kSlots, 9);
+  std::vector<size_t> counts(n), only(n);
+  ASSERT_EQ(sphray_intersect_all(scene_, rays_.data(), n, kSlots, hits.data(), exits.data(),
+                                 counts.data()),
+            SPHRAY_OK);
+  ASSERT_EQ(sphray_count_hits(scene_, rays_.data(), only.data(), n), SPHRAY_OK);
+  std::size_t crossings = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    sphray::Hit want[kSlots];
+    bool want_exit[kSlots];
+    const sphray::Ray ray = to_cpp(rays_[i]);
+    const std::size_t total = bvh_ ? sphray::intersect_all(*bvh_, ray, want, want_exit)
+                                   : sphray::intersect_all(spheres_.view(), ray, want, want_exit);
+    ASSERT_EQ(counts[i], total) << "ray " << i;
+    ASSERT_EQ(only[i], total) << "ray " << i;
+    crossings += total;
+    for (std::size_t k = 0; k < kSlots; ++k) {
+      const sphray_hit& got = hits[i * kSlots + k];
+      if (k < total) {
+        ASSERT_TRUE(got.id == want[k].id && same_bits(got.t, want[k].t)) << "ray " << i;
+        ASSERT_EQ(exits[i * kSlots + k], want_exit[k] ? 1 : 0) << "ray " << i;
+      } else {
+        ASSERT_TRUE(got.id == 7 && got.t == -1.0f) << "ray " << i << ": wrote past the total";
+      }
+    }
+  }
+  EXPECT_GT(crossings, n / 5);
+  // Points: random ones in the spheres' box.
+  std::mt19937 rng(7);
+  std::vector<float> points(3 * n);
+  for (float& x : points)
+    x = uniform(rng, -11, 11);
+  std::vector<sphray_nearest_sphere> near(n);
+  std::vector<unsigned char> in(n);
+  ASSERT_EQ(sphray_nearest(scene_, points.data(), 2.0f, near.data(), n), SPHRAY_OK);
+  ASSERT_EQ(sphray_inside(scene_, points.data(), in.data(), n), SPHRAY_OK);
+  std::size_t found = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const sphray::Vec3 p{points[3 * i], points[3 * i + 1], points[3 * i + 2]};
+    const sphray::Nearest want =
+        bvh_ ? sphray::nearest(*bvh_, p, 2.0f) : sphray::nearest(spheres_.view(), p, 2.0f);
+    ASSERT_TRUE(near[i].id == want.id && same_bits(near[i].distance, want.distance) &&
+                same_bits(near[i].px, want.point.x) && same_bits(near[i].py, want.point.y) &&
+                same_bits(near[i].pz, want.point.z))
+        << "point " << i;
+    found += want.found();
+    const bool want_in = bvh_ ? sphray::inside(*bvh_, p) : sphray::inside(spheres_.view(), p);
+    ASSERT_EQ(in[i], want_in ? 1 : 0) << "point " << i;
+  }
+  EXPECT_GT(found, n / 10);
+  for (std::size_t i = 0; i < 200; ++i) {
+    const float* c = &points[3 * i];
+    std::uint32_t got[4] = {0, 0, 0, 0};
+    std::uint32_t want[4] = {0, 0, 0, 0};
+    size_t total = 0;
+    ASSERT_EQ(sphray_overlapping(scene_, c, 1.5f, got, 4, &total), SPHRAY_OK);
+    const sphray::Vec3 p{c[0], c[1], c[2]};
+    const std::size_t want_total = bvh_ ? sphray::overlapping(*bvh_, p, 1.5f, want)
+                                        : sphray::overlapping(spheres_.view(), p, 1.5f, want);
+    ASSERT_EQ(total, want_total);
+    ASSERT_TRUE(std::equal(got, got + 4, want)) << "ball " << i;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Accel, CApiAgreement,
                          ::testing::Values(SPHRAY_ACCEL_BRUTE, SPHRAY_ACCEL_BVH), accel_name);
 

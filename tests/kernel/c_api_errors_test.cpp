@@ -152,6 +152,53 @@ TEST_F(CApiErrors, SpawnRefusesNullPointersAndBadCounts) {
                  "count exceeds");
 }
 
+TEST_F(CApiErrors, QueriesBeyondTheClosestHitRefuseBadArguments) {
+  std::size_t counts[2] = {5, 5}, total = 9;
+  sphray_hit all[4];
+  unsigned char in[2];
+  sphray_nearest_sphere near[2];
+  const float points[6] = {0, 0, -1, 9, 9, 9};
+  const char* f = "sphray_intersect_all";
+  expect_failure(sphray_intersect_all(scene, nullptr, 2, 2, all, nullptr, counts),
+                 SPHRAY_ERROR_NULL_POINTER, f, "rays is NULL");
+  expect_failure(sphray_intersect_all(scene, rays, 2, 2, all, nullptr, nullptr),
+                 SPHRAY_ERROR_NULL_POINTER, f, "output array is NULL");
+  expect_failure(sphray_intersect_all(scene, rays, 2, 2, nullptr, nullptr, counts),
+                 SPHRAY_ERROR_NULL_POINTER, f, "hits is NULL");
+  expect_failure(sphray_intersect_all(scene, rays, 0, 2, all, nullptr, counts),
+                 SPHRAY_ERROR_INVALID_ARGUMENT, f, "count is 0");
+  expect_failure(sphray_intersect_all(scene, rays, 2, PTRDIFF_MAX, all, nullptr, counts),
+                 SPHRAY_ERROR_TOO_LARGE, f, "max_hits");
+  // Counts only, without hits: the first ray crosses sphere 0 twice, the second nothing.
+  ASSERT_EQ(sphray_intersect_all(scene, rays, 2, 0, nullptr, nullptr, counts), SPHRAY_OK);
+  EXPECT_EQ(counts[0], 2u);
+  EXPECT_EQ(counts[1], 0u);
+  expect_failure(sphray_count_hits(scene, rays, nullptr, 2), SPHRAY_ERROR_NULL_POINTER,
+                 "sphray_count_hits", "output array is NULL");
+  expect_failure(sphray_nearest(scene, nullptr, INFINITY, near, 2), SPHRAY_ERROR_NULL_POINTER,
+                 "sphray_nearest", "is NULL");
+  expect_failure(sphray_inside(scene, points, in, 0), SPHRAY_ERROR_INVALID_ARGUMENT,
+                 "sphray_inside", "count is 0");
+  f = "sphray_overlapping";
+  expect_failure(sphray_overlapping(scene, nullptr, 1.0f, nullptr, 0, &total),
+                 SPHRAY_ERROR_NULL_POINTER, f, "centre is NULL");
+  expect_failure(sphray_overlapping(scene, points, 1.0f, nullptr, 0, nullptr),
+                 SPHRAY_ERROR_NULL_POINTER, f, "total is NULL");
+  expect_failure(sphray_overlapping(scene, points, 1.0f, nullptr, 3, &total),
+                 SPHRAY_ERROR_NULL_POINTER, f, "ids is NULL");
+  EXPECT_EQ(total, 9u);  // untouched by the failures
+  ASSERT_EQ(sphray_overlapping(scene, points, 0.1f, nullptr, 0, &total), SPHRAY_OK);
+  EXPECT_EQ(total, 1u);  // the first point is sphere 0's centre
+  ASSERT_EQ(sphray_overlapping(scene, points, -1.0f, nullptr, 0, &total), SPHRAY_OK);
+  EXPECT_EQ(total, 0u);  // a negative radius: the empty answer
+  ASSERT_EQ(sphray_nearest(scene, points, INFINITY, near, 2), SPHRAY_OK);
+  EXPECT_EQ(near[0].id, 0u);
+  EXPECT_EQ(near[0].distance, -0.5f);
+  ASSERT_EQ(sphray_inside(scene, points, in, 2), SPHRAY_OK);
+  EXPECT_EQ(in[0], 1);
+  EXPECT_EQ(in[1], 0);
+}
+
 TEST_F(CApiErrors, AReleasedSceneIsReportedEverywhere) {
   sphray_scene* released = scene;
   ASSERT_EQ(sphray_scene_release(released), SPHRAY_OK);
@@ -169,6 +216,18 @@ TEST_F(CApiErrors, AReleasedSceneIsReportedEverywhere) {
   expect_failure(sphray_scene_refit(released, cx, cy, cz, r, 2, 0), gone, "sphray_scene_refit",
                  "released");
   expect_failure(sphray_scene_size(released, &size), gone, "sphray_scene_size", "released");
+  std::size_t counts[2];
+  sphray_nearest_sphere near[2];
+  const float points[6] = {0, 0, 0, 1, 1, 1};
+  expect_failure(sphray_count_hits(released, rays, counts, 2), gone, "sphray_count_hits",
+                 "released");
+  expect_failure(sphray_intersect_all(released, rays, 2, 2, nullptr, nullptr, counts), gone,
+                 "sphray_intersect_all", "released");
+  expect_failure(sphray_nearest(released, points, INFINITY, near, 2), gone, "sphray_nearest",
+                 "released");
+  expect_failure(sphray_inside(released, points, occluded, 2), gone, "sphray_inside", "released");
+  expect_failure(sphray_overlapping(released, points, 1.0f, nullptr, 0, &size), gone,
+                 "sphray_overlapping", "released");
   expect_failure(sphray_scene_release(released), gone, "sphray_scene_release", "released");
   expect_failure(sphray_scene_release(nullptr), SPHRAY_ERROR_NULL_POINTER, "sphray_scene_release",
                  "scene is NULL");

@@ -141,6 +141,46 @@ SPHRAY_API int sphray_surface(const sphray_scene* scene, const sphray_ray* rays,
 SPHRAY_API int sphray_spawn(const sphray_hit_surface* surfaces, const float* dirs, sphray_ray* rays,
                             size_t count);
 
+/* ---- Beyond the closest hit (docs/queries.md) ---- */
+
+/* Every crossing of each ray with the spheres' surfaces in (tmin, tmax): for ray i, the first
+ * max_hits crossings, sorted by t, then id, then entry before exit, into
+ * hits[i * max_hits .. (i + 1) * max_hits), exits[...] = 1 where the ray leaves its sphere
+ * (exits may be NULL), and their total in counts[i] (larger than max_hits when they did not
+ * fit; slots past the total are left as they were). max_hits 0: counts only, hits may be NULL.
+ * The first crossing is sphray_intersect's hit. Errors as sphray_intersect, and too large when
+ * count * max_hits exceeds the address space. */
+SPHRAY_API int sphray_intersect_all(const sphray_scene* scene, const sphray_ray* rays, size_t count,
+                                    size_t max_hits, sphray_hit* hits, unsigned char* exits,
+                                    size_t* counts);
+
+/* counts[i] = the number of crossings of rays[i] in (tmin, tmax). */
+SPHRAY_API int sphray_count_hits(const sphray_scene* scene, const sphray_ray* rays, size_t* counts,
+                                 size_t count);
+
+/* The sphere nearest a point by signed distance to its surface, |p - c| - r (negative inside),
+ * among those at most max_distance away (INFINITY: any); id SPHRAY_NO_HIT, distance
+ * max_distance and p itself when there is none. (px, py, pz): the closest surface point. */
+typedef struct sphray_nearest_sphere {
+  uint32_t id;
+  float distance;
+  float px, py, pz;
+} sphray_nearest_sphere;
+
+/* out[i] for the point (points[3i], points[3i + 1], points[3i + 2]). */
+SPHRAY_API int sphray_nearest(const sphray_scene* scene, const float* points, float max_distance,
+                              sphray_nearest_sphere* out, size_t count);
+
+/* inside[i] = 1 if point i lies inside any sphere (the open balls), else 0. */
+SPHRAY_API int sphray_inside(const sphray_scene* scene, const float* points, unsigned char* inside,
+                             size_t count);
+
+/* The ids of the spheres overlapping the ball (centre[0..2], radius), |c - centre| < r + radius,
+ * ascending: the first capacity of them into ids (NULL when capacity is 0), and their number in
+ * *total. A negative or NaN radius, or a NaN centre, gives *total = 0. */
+SPHRAY_API int sphray_overlapping(const sphray_scene* scene, const float* centre, float radius,
+                                  uint32_t* ids, size_t capacity, size_t* total);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif
