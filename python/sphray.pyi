@@ -21,6 +21,7 @@ class Scene:
         centers: _ArrayLike,
         radii: _ArrayLike,
         accel: Literal["auto", "bvh", "brute"] = "auto",
+        masks: Optional[_ArrayLike] = None,
     ) -> None: ...
     def intersect(
         self,
@@ -28,6 +29,7 @@ class Scene:
         directions: _ArrayLike,
         tmin: _Bound = 0.0,
         tmax: _Bound = float("inf"),
+        mask: Union[int, npt.ArrayLike] = 0xFFFFFFFF,
     ) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.uint32]]:
         """Closest hit of each ray: (t, ids); a miss has ids == NO_HIT and t == tmax."""
     def occluded(
@@ -36,6 +38,7 @@ class Scene:
         directions: _ArrayLike,
         tmin: _Bound = 0.0,
         tmax: _Bound = float("inf"),
+        mask: Union[int, npt.ArrayLike] = 0xFFFFFFFF,
     ) -> npt.NDArray[np.bool_]:
         """Whether each ray hits any sphere in (tmin, tmax)."""
     def surface(
@@ -53,6 +56,7 @@ class Scene:
         max_hits: int = 16,
         tmin: _Bound = 0.0,
         tmax: _Bound = float("inf"),
+        mask: Union[int, npt.ArrayLike] = 0xFFFFFFFF,
     ) -> Tuple[
         npt.NDArray[np.float32],
         npt.NDArray[np.uint32],
@@ -66,6 +70,7 @@ class Scene:
         directions: _ArrayLike,
         tmin: _Bound = 0.0,
         tmax: _Bound = float("inf"),
+        mask: Union[int, npt.ArrayLike] = 0xFFFFFFFF,
     ) -> npt.NDArray[np.uint64]:
         """The number of crossings of each ray in (tmin, tmax)."""
     def nearest(
@@ -76,7 +81,9 @@ class Scene:
         """Whether each point lies inside any sphere."""
     def overlapping(self, centre: _ArrayLike, radius: float) -> npt.NDArray[np.uint32]:
         """The ids of the spheres overlapping a ball, ascending."""
-    def refit(self, centers: _ArrayLike, radii: _ArrayLike) -> None:
+    def refit(
+        self, centers: _ArrayLike, radii: _ArrayLike, masks: Optional[_ArrayLike] = None
+    ) -> None:
         """New centres and radii for the same spheres (same N)."""
     def __len__(self) -> int: ...
     @property

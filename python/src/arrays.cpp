@@ -111,31 +111,53 @@ FloatPerRow::FloatPerRow(const char* what, const py::handle& obj,
   stride_ = strides[0];
 }
 
-std::vector<std::uint32_t> ids_per_row(const char* what, const py::handle& obj,
-                                       const std::vector<py::ssize_t>& shape) {
+// The values of an integer array of the given shape as uint32: ids or masks ("kind").
+std::vector<std::uint32_t> uint32_values(const char* what, const py::handle& obj,
+                                         const std::vector<py::ssize_t>& shape, const char* kind,
+                                         const char* per) {
   py::array a = as_real_array(what, obj);
   if (a.dtype().kind() == 'f') {
-    throw py::type_error(std::string(what) + ": expected an integer dtype (uint32 ids), got " +
-                         std::string(py::str(a.dtype())) + " with shape " + shape_text(a));
+    throw py::type_error(std::string(what) + ": expected an integer dtype (uint32 " + kind +
+                         "), got " + std::string(py::str(a.dtype())) + " with shape " +
+                         shape_text(a));
   }
   if (shape_of(a) != shape) {
-    throw py::value_error(std::string(what) + ": expected shape " + shape_text(shape) +
-                          " (one per ray), got " + shape_text(a));
+    throw py::value_error(std::string(what) + ": expected shape " + shape_text(shape) + " (one " +
+                          per + "), got " + shape_text(a));
   }
   // int64 holds every uint32 and every signed dtype but uint64, whose values above 2^63 wrap
-  // negative and are refused below like any other negative id.
+  // negative and are refused below like any other negative value.
   auto wide = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(
       flatten_leading(a, false));
-  std::vector<std::uint32_t> ids(static_cast<std::size_t>(wide.size()));
+  std::vector<std::uint32_t> values(static_cast<std::size_t>(wide.size()));
   const std::int64_t* v = wide.data();
-  for (std::size_t i = 0; i < ids.size(); ++i) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
     if (v[i] < 0 || v[i] > std::numeric_limits<std::uint32_t>::max()) {
-      throw py::value_error(std::string(what) + ": ids must lie in [0, 2**32 - 1], got " +
+      throw py::value_error(std::string(what) + ": " + kind + " must lie in [0, 2**32 - 1], got " +
                             std::to_string(v[i]) + " at flat index " + std::to_string(i));
     }
-    ids[i] = static_cast<std::uint32_t>(v[i]);
+    values[i] = static_cast<std::uint32_t>(v[i]);
   }
-  return ids;
+  return values;
+}
+
+std::vector<std::uint32_t> ids_per_row(const char* what, const py::handle& obj,
+                                       const std::vector<py::ssize_t>& shape) {
+  return uint32_values(what, obj, shape, "ids", "per ray");
+}
+
+MaskPerRow::MaskPerRow(const py::handle& obj, const std::vector<py::ssize_t>& shape) {
+  if (py::isinstance<py::int_>(obj)) {  // every ray's mask
+    const long long v = obj.cast<long long>();
+    if (v < 0 || v > 0xffffffffLL)
+      throw py::value_error("mask: masks must lie in [0, 2**32 - 1], got " + std::to_string(v));
+    scalar_ = static_cast<std::uint32_t>(v);
+  } else if (py::isinstance<py::array>(obj) && py::array::ensure(obj).ndim() == 0) {
+    scalar_ = uint32_values("mask", py::array::ensure(obj).attr("reshape")(1), {1}, "masks",
+                            "per ray")[0];
+  } else {
+    values_ = uint32_values("mask", obj, shape, "masks", "per ray");
+  }
 }
 
 }  // namespace sphray::python

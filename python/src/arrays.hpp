@@ -77,6 +77,24 @@ class FloatPerRow {
 std::vector<std::uint32_t> ids_per_row(const char* what, const py::handle& obj,
                                        const std::vector<py::ssize_t>& shape);
 
+/// The values of an integer array of the given shape as uint32 ("kind": ids or masks, "per":
+/// what one value belongs to, for the messages): TypeError for float dtypes, ValueError for
+/// another shape or a value outside [0, 2**32 - 1].
+std::vector<std::uint32_t> uint32_values(const char* what, const py::handle& obj,
+                                         const std::vector<py::ssize_t>& shape, const char* kind,
+                                         const char* per);
+
+/// Ray masks: a Python integer (every ray's) or a uint32-valued array of the batch's shape.
+class MaskPerRow {
+ public:
+  MaskPerRow(const py::handle& obj, const std::vector<py::ssize_t>& shape);
+  std::uint32_t operator[](std::size_t i) const { return values_.empty() ? scalar_ : values_[i]; }
+
+ private:
+  std::uint32_t scalar_ = kAllBits;
+  std::vector<std::uint32_t> values_;
+};
+
 /// A new C-contiguous array of dtype T with shape leading + trailing.
 template <typename T>
 py::array_t<T> new_array(const std::vector<py::ssize_t>& leading,

@@ -37,11 +37,15 @@ Every instruction set returns the same bits.)doc";
 
 constexpr const char* kSceneDoc = R"doc(Spheres to trace rays against.
 
-Scene(centers, radii, accel="auto")
+Scene(centers, radii, accel="auto", masks=None)
 
 centers: (N, 3) array of sphere centres; radii: (N,) array. Any real dtype; the kernel
 computes in float32. Sphere i has id i. A sphere with radius <= 0 or a NaN or infinite
 value is never hit.
+
+masks: None, or (N,) integers in [0, 2**32 - 1] (copied as uint32). The ray queries take a
+mask= keyword (an integer, or one per ray; default every bit): a ray sees sphere i only if
+masks[i] & mask != 0. The point queries see every sphere.
 
 accel: "auto" builds a bounding volume hierarchy (BVH) from 128 spheres on and traces
 small scenes by brute force; "bvh" and "brute" force one or the other. Both return the
@@ -55,7 +59,7 @@ scene reads your arrays in place, write to them only between queries and call re
 afterwards (the BVH keeps its own copy of the spheres and sees changes only then).)doc";
 
 constexpr const char* kIntersectDoc =
-    R"doc(intersect(origins, directions, tmin=0.0, tmax=inf) -> (t, ids)
+    R"doc(intersect(origins, directions, tmin=0.0, tmax=inf, mask=0xffffffff) -> (t, ids)
 
 Closest hit of each ray.
 
@@ -68,7 +72,8 @@ t[i] == tmax. Equal t on two spheres: the lower id. A ray starting inside a sphe
 far side. A ray with a NaN or infinite component, a zero direction, a NaN bound or
 tmin >= tmax misses.)doc";
 
-constexpr const char* kOccludedDoc = R"doc(occluded(origins, directions, tmin=0.0, tmax=inf) -> hit
+constexpr const char* kOccludedDoc =
+    R"doc(occluded(origins, directions, tmin=0.0, tmax=inf, mask=0xffffffff) -> hit
 
 Whether each ray hits any sphere in (tmin, tmax).
 
@@ -86,7 +91,7 @@ True where the ray arrived from outside. For a miss (ids == NO_HIT, or an id of 
 the point origin + t * direction, a zero normal and front_face False.)doc";
 
 constexpr const char* kIntersectAllDoc =
-    R"doc(intersect_all(origins, directions, max_hits=16, tmin=0.0, tmax=inf)
+    R"doc(intersect_all(origins, directions, max_hits=16, tmin=0.0, tmax=inf, mask=0xffffffff)
 
 Every crossing of each ray with the spheres' surfaces, not only the first.
 
@@ -97,7 +102,8 @@ before exit (a sphere's near root enters it, its far root leaves it); counts uin
 Unused slots hold t = nan, id = NO_HIT, exit = False. The first crossing is intersect()'s
 closest hit. Contract: docs/queries.md.)doc";
 
-constexpr const char* kCountHitsDoc = R"doc(count_hits(origins, directions, tmin=0.0, tmax=inf)
+constexpr const char* kCountHitsDoc =
+    R"doc(count_hits(origins, directions, tmin=0.0, tmax=inf, mask=0xffffffff)
 
 The number of crossings of each ray with the spheres' surfaces in (tmin, tmax), uint64 of
 shape (...): both roots of every sphere the ray's line meets count. From a point to infinity,
@@ -124,7 +130,7 @@ The ids (uint32, ascending) of the spheres that overlap the ball of this centre 
 radius: |c - centre| < r + radius (touching is not overlapping). Collision candidates. A
 negative or NaN radius, or a NaN centre, gives an empty array.)doc";
 
-constexpr const char* kRefitDoc = R"doc(refit(centers, radii)
+constexpr const char* kRefitDoc = R"doc(refit(centers, radii, masks=None)
 
 Moves the scene's spheres.
 
@@ -175,27 +181,32 @@ PYBIND11_MODULE(sphray, m) {
 
   py::class_<Scene>(m, "Scene", kSceneDoc)
       .def(
-          py::init<const py::handle&, const py::handle&, const std::string&>(), py::arg("centers"),
-          py::arg("radii"), py::arg("accel") = "auto",
-          "__init__(centers, radii, accel=\"auto\")\n\nSpheres from centers (N, 3) and radii (N,): "
-          "see help(sphray.Scene).")
+          py::init<const py::handle&, const py::handle&, const std::string&, const py::handle&>(),
+          py::arg("centers"), py::arg("radii"), py::arg("accel") = "auto",
+          py::arg("masks") = py::none(),
+          "__init__(centers, radii, accel=\"auto\", masks=None)\n\nSpheres from centers (N, 3) and "
+          "radii (N,), and optionally one uint32 mask each: see help(sphray.Scene).")
       .def("intersect", &Scene::intersect, py::arg("origins"), py::arg("directions"),
-           py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, kIntersectDoc)
+           py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits,
+           kIntersectDoc)
       .def("occluded", &Scene::occluded, py::arg("origins"), py::arg("directions"),
-           py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, kOccludedDoc)
+           py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits,
+           kOccludedDoc)
       .def("surface", &Scene::surface, py::arg("origins"), py::arg("directions"), py::arg("t"),
            py::arg("ids"), kSurfaceDoc)
       .def("intersect_all", &Scene::intersect_all, py::arg("origins"), py::arg("directions"),
            py::arg("max_hits") = 16, py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY,
-           kIntersectAllDoc)
+           py::arg("mask") = sphray::kAllBits, kIntersectAllDoc)
       .def("count_hits", &Scene::count_hits, py::arg("origins"), py::arg("directions"),
-           py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, kCountHitsDoc)
+           py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits,
+           kCountHitsDoc)
       .def("nearest", &Scene::nearest, py::arg("points"), py::arg("max_distance") = INFINITY,
            kNearestDoc)
       .def("inside", &Scene::inside, py::arg("points"), kInsideDoc)
       .def("overlapping", &Scene::overlapping, py::arg("centre"), py::arg("radius"),
            kOverlappingDoc)
-      .def("refit", &Scene::refit, py::arg("centers"), py::arg("radii"), kRefitDoc)
+      .def("refit", &Scene::refit, py::arg("centers"), py::arg("radii"),
+           py::arg("masks") = py::none(), kRefitDoc)
       .def("__len__", &Scene::size, "len(scene): the number of spheres.")
       .def_property_readonly("uses_bvh", &Scene::uses_bvh,
                              "Whether a BVH answers the queries (else brute force).")

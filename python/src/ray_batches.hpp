@@ -48,16 +48,19 @@ inline Vec3Rows directions_like(const Vec3Rows& origins, const py::handle& direc
   return d;
 }
 
-/// The rays of a batch as the caller gave them: origins and directions (..., 3), and tmin
-/// and tmax as scalars or one per ray.
+/// The rays of a batch as the caller gave them: origins and directions (..., 3), and tmin,
+/// tmax and mask as scalars or one per ray.
 struct RayBatch {
   const Vec3Rows& origins;
   const Vec3Rows& directions;
   const FloatPerRow& tmin;
   const FloatPerRow& tmax;
+  const MaskPerRow& mask;
 
   std::size_t size() const { return origins.size(); }
-  Ray operator[](std::size_t i) const { return {origins[i], directions[i], tmin[i], tmax[i]}; }
+  Ray operator[](std::size_t i) const {
+    return {origins[i], directions[i], tmin[i], tmax[i], mask[i]};
+  }
 };
 
 }  // namespace sphray::python

@@ -9,8 +9,9 @@
 
 namespace sphray::python {
 
-Scene::Scene(const py::handle& centers, const py::handle& radii, const std::string& accel)
-    : spheres_(centers, radii) {
+Scene::Scene(const py::handle& centers, const py::handle& radii, const std::string& accel,
+             const py::handle& masks)
+    : spheres_(centers, radii, masks) {
   using render::Accel;
   const std::optional<Accel> how = render::parse_accel(accel);
   if (!how) throw py::value_error("accel: expected 'auto', 'bvh' or 'brute', got '" + accel + "'");
@@ -21,16 +22,18 @@ Scene::Scene(const py::handle& centers, const py::handle& radii, const std::stri
 }
 
 py::tuple Scene::intersect(const py::handle& origins, const py::handle& directions,
-                           const py::handle& tmin, const py::handle& tmax) const {
+                           const py::handle& tmin, const py::handle& tmax,
+                           const py::handle& mask) const {
   const Vec3Rows o("origins", origins);
   const Vec3Rows d = directions_like(o, directions);
   FloatPerRow lo("tmin", tmin, o.leading_shape());
   FloatPerRow hi("tmax", tmax, o.leading_shape());
+  const MaskPerRow masks(mask, o.leading_shape());
   auto t = new_array<float>(o.leading_shape());
   auto ids = new_array<std::uint32_t>(o.leading_shape());
   float* t_out = t.mutable_data();
   std::uint32_t* id_out = ids.mutable_data();
-  const RayBatch rays{o, d, lo, hi};
+  const RayBatch rays{o, d, lo, hi, masks};
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
@@ -50,14 +53,16 @@ py::tuple Scene::intersect(const py::handle& origins, const py::handle& directio
 }
 
 py::array Scene::occluded(const py::handle& origins, const py::handle& directions,
-                          const py::handle& tmin, const py::handle& tmax) const {
+                          const py::handle& tmin, const py::handle& tmax,
+                          const py::handle& mask) const {
   const Vec3Rows o("origins", origins);
   const Vec3Rows d = directions_like(o, directions);
   FloatPerRow lo("tmin", tmin, o.leading_shape());
   FloatPerRow hi("tmax", tmax, o.leading_shape());
+  const MaskPerRow masks(mask, o.leading_shape());
   auto hit = new_array<bool>(o.leading_shape());
   bool* out = hit.mutable_data();
-  const RayBatch rays{o, d, lo, hi};
+  const RayBatch rays{o, d, lo, hi, masks};
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
@@ -109,8 +114,8 @@ void Scene::trace(std::span<const Ray> rays, std::span<Hit> hits) const {
   }
 }
 
-void Scene::refit(const py::handle& centers, const py::handle& radii) {
-  SphereArrays next(centers, radii);
+void Scene::refit(const py::handle& centers, const py::handle& radii, const py::handle& masks) {
+  SphereArrays next(centers, radii, masks);
   if (next.size() != spheres_.size()) {
     throw py::value_error("refit: expected the scene's " + std::to_string(spheres_.size()) +
                           " spheres, got centers " + shape_text(next.centers()));

@@ -25,14 +25,16 @@ inline constexpr std::size_t kBvhFromSpheres = 128;
 class Scene {
  public:
   /// accel: "auto", "bvh" or "brute" (the renderer's names, sphray::render::parse_accel).
-  Scene(const py::handle& centers, const py::handle& radii, const std::string& accel);
+  /// masks: None, or one uint32 per sphere (a ray sees a sphere if their masks share a bit).
+  Scene(const py::handle& centers, const py::handle& radii, const std::string& accel,
+        const py::handle& masks);
 
   /// (t, ids) of the closest hits.
   py::tuple intersect(const py::handle& origins, const py::handle& directions,
-                      const py::handle& tmin, const py::handle& tmax) const;
+                      const py::handle& tmin, const py::handle& tmax, const py::handle& mask) const;
   /// Whether each ray hits any sphere in (tmin, tmax).
   py::array occluded(const py::handle& origins, const py::handle& directions,
-                     const py::handle& tmin, const py::handle& tmax) const;
+                     const py::handle& tmin, const py::handle& tmax, const py::handle& mask) const;
   /// (points, normals, front_face) where each ray meets its hit.
   py::tuple surface(const py::handle& origins, const py::handle& directions, const py::handle& t,
                     const py::handle& ids) const;
@@ -40,11 +42,12 @@ class Scene {
   /// crossings per ray sorted by t in (..., max_hits) arrays, unused slots t = NaN and
   /// id = NO_HIT, and each ray's total count.
   py::tuple intersect_all(const py::handle& origins, const py::handle& directions,
-                          std::size_t max_hits, const py::handle& tmin,
-                          const py::handle& tmax) const;
+                          std::size_t max_hits, const py::handle& tmin, const py::handle& tmax,
+                          const py::handle& mask) const;
   /// The number of crossings of each ray.
   py::array count_hits(const py::handle& origins, const py::handle& directions,
-                       const py::handle& tmin, const py::handle& tmax) const;
+                       const py::handle& tmin, const py::handle& tmax,
+                       const py::handle& mask) const;
   /// (ids, distances, points): the nearest sphere to each point by signed distance.
   py::tuple nearest(const py::handle& points, float max_distance) const;
   /// Whether each point lies inside any sphere.
@@ -53,7 +56,7 @@ class Scene {
   py::array overlapping(const py::handle& centre, float radius) const;
 
   /// New centres and radii for the same spheres (same count).
-  void refit(const py::handle& centers, const py::handle& radii);
+  void refit(const py::handle& centers, const py::handle& radii, const py::handle& masks);
 
   std::size_t size() const { return spheres_.size(); }
   bool uses_bvh() const { return bvh_.has_value(); }

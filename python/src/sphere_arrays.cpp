@@ -32,7 +32,8 @@ py::array contiguous_float32(const py::array& a) {
 
 }  // namespace
 
-SphereArrays::SphereArrays(const py::handle& centers, const py::handle& radii) {
+SphereArrays::SphereArrays(const py::handle& centers, const py::handle& radii,
+                           const py::handle& masks) {
   py::array c = as_real_array("centers", centers);
   py::array r = as_real_array("radii", radii);
   if (c.ndim() != 2 || c.shape(1) != 3) {
@@ -57,6 +58,7 @@ SphereArrays::SphereArrays(const py::handle& centers, const py::handle& radii) {
   cy_ = reinterpret_cast<const float*>(base + column);
   cz_ = reinterpret_cast<const float*>(base + 2 * column);
   r_ = static_cast<const float*>(radii_.data());
+  if (!masks.is_none()) masks_ = uint32_values("masks", masks, {c.shape(0)}, "masks", "per sphere");
 }
 
 }  // namespace sphray::python

@@ -12,6 +12,8 @@
 #include <pybind11/numpy.h>
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "sphray/sphray.hpp"
 
@@ -24,10 +26,13 @@ class SphereArrays {
   SphereArrays() = default;
   /// Throws ValueError for shapes other than (N, 3) and (N,) with the same N, TypeError for
   /// dtypes that are not real numbers. Needs the GIL.
-  SphereArrays(const py::handle& centers, const py::handle& radii);
+  /// masks: None or an integer array of shape (N,), copied as uint32.
+  SphereArrays(const py::handle& centers, const py::handle& radii, const py::handle& masks);
 
   /// The kernel's view of the arrays; valid while this object (or a copy of it) lives.
-  SphereView view() const { return {cx_, cy_, cz_, r_, count_}; }
+  SphereView view() const {
+    return {cx_, cy_, cz_, r_, count_, 0, masks_.empty() ? nullptr : masks_.data()};
+  }
   std::size_t size() const { return count_; }
 
   /// The (N, 3) and (N,) arrays the kernel reads: the caller's own when read in place.
@@ -41,6 +46,7 @@ class SphereArrays {
   const float* cz_ = nullptr;
   const float* r_ = nullptr;
   std::size_t count_ = 0;
+  std::vector<std::uint32_t> masks_;  // empty: no masks
 };
 
 }  // namespace sphray::python

@@ -119,3 +119,50 @@ def test_bad_input_raises():
         scene.nearest(np.zeros((4, 2)))
     with pytest.raises(TypeError):
         scene.overlapping(["a", "b", "c"], 1.0)
+
+
+@pytest.mark.parametrize("accel", ACCELS)
+def test_masks_hide_spheres_as_if_they_were_gone(rng, accel):
+    centers, radii = ref.random_scene(rng, 300, box=6.0, rmin=0.3, rmax=1.2)
+    masks = rng.choice(np.array([0, 1, 2, 3, 0xFFFFFFFF], dtype=np.uint32), size=300)
+    origins, directions = ref.random_rays(rng, 500, box=7.0)
+    scene = sphray.Scene(centers, radii, accel=accel, masks=masks)
+    ray_masks = rng.choice(np.array([0, 1, 2, 0xFFFFFFFF], dtype=np.uint32), size=500)
+    t, ids = scene.intersect(origins, directions, mask=ray_masks)
+    counts = scene.count_hits(origins, directions, mask=ray_masks)
+    hit = scene.occluded(origins, directions, mask=ray_masks)
+    # The oracle: for each ray mask, a scene of only the spheres it sees, without masks.
+    for m in np.unique(ray_masks):
+        seen = np.flatnonzero(masks & m)
+        rows = ray_masks == m
+        if seen.size == 0:
+            assert np.all(ids[rows] == sphray.NO_HIT) and np.all(counts[rows] == 0)
+            continue
+        alone = sphray.Scene(centers[seen], radii[seen], accel=accel)
+        t2, ids2 = alone.intersect(origins[rows], directions[rows])
+        mapped = np.where(ids2 == sphray.NO_HIT, sphray.NO_HIT, seen[np.minimum(ids2, seen.size - 1)])
+        np.testing.assert_array_equal(ids[rows], mapped)
+        np.testing.assert_array_equal(t[rows], t2)
+        np.testing.assert_array_equal(counts[rows], alone.count_hits(origins[rows], directions[rows]))
+        np.testing.assert_array_equal(hit[rows], alone.occluded(origins[rows], directions[rows]))
+    # A scalar mask is every ray's; refit replaces the masks.
+    t1, _ = scene.intersect(origins, directions, mask=2)
+    scene.refit(centers, radii)  # no masks: every sphere seen again
+    t_all, _ = scene.intersect(origins, directions)
+    t_none, ids_none = scene.intersect(origins, directions, mask=0)
+    assert np.all(ids_none == sphray.NO_HIT)
+    assert np.all(t_all <= t1)
+
+
+def test_mask_bad_input():
+    c, r = np.zeros((2, 3), np.float32), np.ones(2, np.float32)
+    with pytest.raises(ValueError, match=r"\(3,\)"):
+        sphray.Scene(c, r, masks=np.ones(3, np.uint32))
+    with pytest.raises(TypeError, match="masks"):
+        sphray.Scene(c, r, masks=np.ones(2, np.float32))
+    scene = sphray.Scene(c, r)
+    o, d = np.zeros((4, 3), np.float32), np.ones((4, 3), np.float32)
+    with pytest.raises(ValueError, match=r"\(4,\)"):
+        scene.intersect(o, d, mask=np.ones(3, np.uint32))
+    with pytest.raises(ValueError, match="2\\*\\*32"):
+        scene.intersect(o, d, mask=-1)
