@@ -26,6 +26,8 @@ struct Queries {
   const SphereBVH* tree = nullptr;  // null: brute force over the view
   SphereView view;
   float overlap_radius = 0.0f;
+  const SphereBVH* masked_tree = nullptr;  // the same spheres, masks 1 and 2 alternating
+  SphereView masked_view;
 };
 
 std::vector<Vec3> random_points(const Box& box, std::size_t count) {
@@ -43,6 +45,13 @@ std::vector<Vec3> random_points(const Box& box, std::size_t count) {
 
 std::size_t closest(const Queries& q, const Ray& r) {
   const Hit h = q.tree ? intersect(*q.tree, r) : intersect(q.view, r);
+  return h.id;
+}
+// Rays of mask 1 among spheres of masks 1 and 2 in turn: half the spheres hidden.
+std::size_t closest_masked(const Queries& q, const Ray& r) {
+  Ray masked = r;
+  masked.mask = 1u;
+  const Hit h = q.tree ? intersect(*q.masked_tree, masked) : intersect(q.masked_view, masked);
   return h.id;
 }
 std::size_t any_hit(const Queries& q, const Ray& r) {
@@ -77,6 +86,14 @@ struct Scene {
   std::vector<Vec3> points;
   SphereBVH tree;
   float median_radius = 0.0f;
+  std::vector<std::uint32_t> masks;
+  SphereBVH masked_tree;
+
+  SphereView masked_view() const {
+    SphereView v = spheres.view();
+    v.mask = masks.data();
+    return v;
+  }
 };
 
 const Scene& scene(std::string_view name) {
@@ -91,6 +108,10 @@ const Scene& scene(std::string_view name) {
   s->brute_rays = w.brute_rays;
   s->points = random_points(scene_box(w.spheres), kPoints);
   s->tree = SphereBVH(s->spheres.view());
+  s->masks.resize(s->spheres.view().padded_count);
+  for (std::size_t i = 0; i < s->masks.size(); ++i)
+    s->masks[i] = i % 2 == 0 ? 1u : 2u;
+  s->masked_tree = SphereBVH(s->masked_view());
   std::vector<float> radii(s->spheres.view().radius, s->spheres.view().radius + s->spheres.size());
   std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2),
                    radii.end());
@@ -103,8 +124,9 @@ template <class Item, class Query>
 void run(benchmark::State& state, std::string_view scene_name, bool tree, Query query,
          std::size_t (*reference)(const Queries&, const Item&)) {
   const Scene& s = scene(scene_name);
-  const Queries q{tree ? &s.tree : nullptr, s.spheres.view(), s.median_radius};
-  const Queries ref{nullptr, s.spheres.view(), s.median_radius};
+  const Queries q{tree ? &s.tree : nullptr, s.spheres.view(), s.median_radius, &s.masked_tree,
+                  s.masked_view()};
+  const Queries ref{nullptr, s.spheres.view(), s.median_radius, nullptr, s.masked_view()};
   std::vector<Item> items;
   if constexpr (std::is_same_v<Item, Ray>) {
     items = tree ? s.rays : s.brute_rays;
@@ -133,6 +155,11 @@ void run(benchmark::State& state, std::string_view scene_name, bool tree, Query 
 // The scalar reference's answers, in the form each query above returns.
 std::size_t ref_closest(const Queries& q, const Ray& r) {
   return scalar::intersect(q.view, r).id;
+}
+std::size_t ref_closest_masked(const Queries& q, const Ray& r) {
+  Ray masked = r;
+  masked.mask = 1u;
+  return scalar::intersect(q.masked_view, masked).id;
 }
 std::size_t ref_any(const Queries& q, const Ray& r) {
   return scalar::occluded(q.view, r);
@@ -170,6 +197,7 @@ void register_query_benchmarks() {
     std::size_t (*reference)(const Queries&, const Vec3&);
   };
   static const RayRow rays[] = {{"closest", closest, ref_closest},
+                                {"closest_masked", closest_masked, ref_closest_masked},
                                 {"occluded", any_hit, ref_any},
                                 {"count_hits", count, ref_count},
                                 {"intersect_all16", all_hits, ref_all}};

@@ -657,6 +657,7 @@ def bounce_section(res):
 
 QUERY_ROWS = [
     ("closest", "rays", "`intersect`: the closest hit (the yardstick)"),
+    ("closest_masked", "rays", "`intersect` with masks: half the spheres hidden from the rays"),
     ("occluded", "rays", "`occluded`: any hit"),
     ("count_hits", "rays", "`count_hits`: every crossing, counted"),
     ("intersect_all16", "rays", "`intersect_all` into 16 slots: the nearest crossings, sorted"),
