@@ -23,11 +23,8 @@ py::tuple Scene::intersect_all(const py::handle& origins, const py::handle& dire
     throw py::value_error("max_hits: expected 0 to " + std::to_string(kMaxHitsPerRay) + ", got " +
                           std::to_string(max_hits));
   }
-  const Vec3Rows o("origins", origins);
-  const Vec3Rows d = directions_like(o, directions);
-  FloatPerRow lo("tmin", tmin, o.leading_shape());
-  FloatPerRow hi("tmax", tmax, o.leading_shape());
-  const MaskPerRow masks(mask, o.leading_shape());
+  const RayArguments args(origins, directions, tmin, tmax, mask);
+  const Vec3Rows& o = args.origins;
   const auto slots = static_cast<py::ssize_t>(max_hits);
   auto t = new_array<float>(o.leading_shape(), {slots});
   auto ids = new_array<std::uint32_t>(o.leading_shape(), {slots});
@@ -37,7 +34,7 @@ py::tuple Scene::intersect_all(const py::handle& origins, const py::handle& dire
   std::uint32_t* id_out = ids.mutable_data();
   bool* exit_out = exits.mutable_data();
   std::uint64_t* count_out = counts.mutable_data();
-  const RayBatch rays{o, d, lo, hi, masks};
+  const RayBatch rays = args.batch();
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
@@ -65,14 +62,11 @@ py::tuple Scene::intersect_all(const py::handle& origins, const py::handle& dire
 py::array Scene::count_hits(const py::handle& origins, const py::handle& directions,
                             const py::handle& tmin, const py::handle& tmax,
                             const py::handle& mask) const {
-  const Vec3Rows o("origins", origins);
-  const Vec3Rows d = directions_like(o, directions);
-  FloatPerRow lo("tmin", tmin, o.leading_shape());
-  FloatPerRow hi("tmax", tmax, o.leading_shape());
-  const MaskPerRow masks(mask, o.leading_shape());
+  const RayArguments args(origins, directions, tmin, tmax, mask);
+  const Vec3Rows& o = args.origins;
   auto counts = new_array<std::uint64_t>(o.leading_shape());
   std::uint64_t* out = counts.mutable_data();
-  const RayBatch rays{o, d, lo, hi, masks};
+  const RayBatch rays = args.batch();
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);

@@ -63,4 +63,22 @@ struct RayBatch {
   }
 };
 
+/// A ray query's arguments, parsed and checked once: origins, directions (of the origins'
+/// shape), and tmin, tmax and mask (scalars or one per ray).
+struct RayArguments {
+  RayArguments(const py::handle& o, const py::handle& d, const py::handle& tmin,
+               const py::handle& tmax, const py::handle& mask)
+      : origins("origins", o),
+        directions(directions_like(origins, d)),
+        tmin("tmin", tmin, origins.leading_shape()),
+        tmax("tmax", tmax, origins.leading_shape()),
+        mask(mask, origins.leading_shape()) {}
+
+  RayBatch batch() const { return {origins, directions, tmin, tmax, mask}; }
+
+  Vec3Rows origins, directions;
+  FloatPerRow tmin, tmax;
+  MaskPerRow mask;
+};
+
 }  // namespace sphray::python

@@ -24,16 +24,13 @@ Scene::Scene(const py::handle& centers, const py::handle& radii, const std::stri
 py::tuple Scene::intersect(const py::handle& origins, const py::handle& directions,
                            const py::handle& tmin, const py::handle& tmax,
                            const py::handle& mask) const {
-  const Vec3Rows o("origins", origins);
-  const Vec3Rows d = directions_like(o, directions);
-  FloatPerRow lo("tmin", tmin, o.leading_shape());
-  FloatPerRow hi("tmax", tmax, o.leading_shape());
-  const MaskPerRow masks(mask, o.leading_shape());
+  const RayArguments args(origins, directions, tmin, tmax, mask);
+  const Vec3Rows& o = args.origins;
   auto t = new_array<float>(o.leading_shape());
   auto ids = new_array<std::uint32_t>(o.leading_shape());
   float* t_out = t.mutable_data();
   std::uint32_t* id_out = ids.mutable_data();
-  const RayBatch rays{o, d, lo, hi, masks};
+  const RayBatch rays = args.batch();
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
@@ -55,14 +52,11 @@ py::tuple Scene::intersect(const py::handle& origins, const py::handle& directio
 py::array Scene::occluded(const py::handle& origins, const py::handle& directions,
                           const py::handle& tmin, const py::handle& tmax,
                           const py::handle& mask) const {
-  const Vec3Rows o("origins", origins);
-  const Vec3Rows d = directions_like(o, directions);
-  FloatPerRow lo("tmin", tmin, o.leading_shape());
-  FloatPerRow hi("tmax", tmax, o.leading_shape());
-  const MaskPerRow masks(mask, o.leading_shape());
+  const RayArguments args(origins, directions, tmin, tmax, mask);
+  const Vec3Rows& o = args.origins;
   auto hit = new_array<bool>(o.leading_shape());
   bool* out = hit.mutable_data();
-  const RayBatch rays{o, d, lo, hi, masks};
+  const RayBatch rays = args.batch();
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
