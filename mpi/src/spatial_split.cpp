@@ -40,9 +40,7 @@ std::uint64_t cell(float v, float lo, float hi) {
 
 }  // namespace
 
-std::vector<std::uint32_t> spatial_share(SphereView spheres, int rank, int ranks) {
-  if (ranks < 1 || rank < 0 || rank >= ranks)
-    throw std::invalid_argument("spatial_share: expected 0 <= rank < ranks");
+std::vector<std::uint32_t> morton_order(SphereView spheres) {
   const auto center = [&](std::size_t i) {
     return Vec3{spheres.cx[i], spheres.cy[i], spheres.cz[i]};
   };
@@ -64,11 +62,20 @@ std::vector<std::uint32_t> spatial_share(SphereView spheres, int rank, int ranks
     keys[i] = {code, static_cast<std::uint32_t>(i)};
   }
   std::sort(keys.begin(), keys.end());
-  const std::size_t n = spheres.count, r = static_cast<std::size_t>(rank),
+  std::vector<std::uint32_t> order(keys.size());
+  for (std::size_t k = 0; k < keys.size(); ++k)
+    order[k] = keys[k].second;
+  return order;
+}
+
+std::vector<std::uint32_t> spatial_share(SphereView spheres, int rank, int ranks) {
+  if (ranks < 1 || rank < 0 || rank >= ranks)
+    throw std::invalid_argument("spatial_share: expected 0 <= rank < ranks");
+  const std::vector<std::uint32_t> order = morton_order(spheres);
+  const std::size_t n = order.size(), r = static_cast<std::size_t>(rank),
                     p = static_cast<std::size_t>(ranks);
-  std::vector<std::uint32_t> ids;
-  for (std::size_t k = n * r / p; k < n * (r + 1) / p; ++k)
-    ids.push_back(keys[k].second);
+  std::vector<std::uint32_t> ids(order.begin() + static_cast<std::ptrdiff_t>(n * r / p),
+                                 order.begin() + static_cast<std::ptrdiff_t>(n * (r + 1) / p));
   std::sort(ids.begin(), ids.end());
   return ids;
 }

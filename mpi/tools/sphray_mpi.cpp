@@ -1,6 +1,8 @@
 // sphray-mpi: the sphray renderer with the scene's spheres spread over the ranks of an MPI job.
 //
 //   mpirun -np 4 sphray-mpi render -s rtiow-final -m shaded -o shaded.png
+//   sphray-mpi generate random:4194304 -o random4m.sphp      # a particle file
+//   mpirun -np 4 sphray-mpi bench random4m.sphp              # read, build, trace: one line
 //
 // Every rank reads the scene and keeps the spheres of one region of space (spatial_share);
 // each batch of rays the renderer traces is answered by all ranks together (DistributedScene),
@@ -10,11 +12,14 @@
 #include <mpi.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
 
 #include "sphray/mpi/distributed_scene.hpp"
+#include "sphray/mpi/particle_file.hpp"
 #include "sphray/mpi/spatial_split.hpp"
 #include "sphray/render/image_file.hpp"
 #include "sphray/render/renderer.hpp"
@@ -161,6 +166,111 @@ int run_render(const RenderArgs& args, MPI_Comm comm) {
   }
 }
 
+// generate: a scene's spheres (a preset such as random:N, or a scene file) as a particle file.
+// Rank 0 writes it; the other ranks, if any, have nothing to do.
+int run_generate(const std::string& scene_name, const std::string& output, MPI_Comm comm) {
+  if (rank_of(comm) != 0) return 0;
+  try {
+    const Scene scene = load_scene_or_preset(scene_name);
+    sphray::mpi::write_particles(output, scene.spheres.view());
+    return 0;
+  } catch (const SceneError& e) {
+    report(e.what());
+    return kExitUsage;
+  } catch (const sphray::mpi::ParticleFileError& e) {
+    report(e.what());
+    return kExitIo;
+  }
+}
+
+struct BenchArgs {
+  std::string particles;
+  std::uint64_t rays = 1 << 20;
+  std::size_t batch = 1 << 16;
+};
+
+double max_over_ranks(double value, MPI_Comm comm) {
+  double largest = 0;
+  MPI_Allreduce(&value, &largest, 1, MPI_DOUBLE, MPI_MAX, comm);
+  return largest;
+}
+
+// The box around every rank's spheres (centres padded by their radii).
+std::pair<sphray::Vec3, sphray::Vec3> global_bounds(const sphray::SphereSoA& spheres,
+                                                    MPI_Comm comm) {
+  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (std::uint32_t i = 0; i < spheres.size(); ++i) {
+    const sphray::Vec3 c = spheres.center(i);
+    const float r = spheres.radius(i);
+    const float v[3] = {c.x, c.y, c.z};
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(v[k]) || !(r > 0) || !std::isfinite(r)) continue;
+      lo[k] = std::min(lo[k], v[k] - r);
+      hi[k] = std::max(hi[k], v[k] + r);
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, lo, 3, MPI_FLOAT, MPI_MIN, comm);
+  MPI_Allreduce(MPI_IN_PLACE, hi, 3, MPI_FLOAT, MPI_MAX, comm);
+  return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+}
+
+// Ray i of a pinhole view of the box from in front (+z), on a square grid of rays_total rays:
+// the same on every rank, from i alone.
+sphray::Ray view_ray(std::uint64_t i, std::uint64_t side, sphray::Vec3 lo, sphray::Vec3 hi) {
+  const sphray::Vec3 center = 0.5f * (lo + hi);
+  const float extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  const sphray::Vec3 eye{center.x, center.y, hi.z + extent};
+  const float u = (static_cast<float>(i % side) + 0.5f) / static_cast<float>(side);
+  const float v = (static_cast<float>(i / side) + 0.5f) / static_cast<float>(side);
+  const sphray::Vec3 target{lo.x + u * (hi.x - lo.x), lo.y + v * (hi.y - lo.y), hi.z};
+  return sphray::Ray{eye, target - eye};
+}
+
+// bench: reads a particle file over the ranks, builds, traces closest-hit rays in batches, and
+// prints one line of figures (the slowest rank's where ranks differ).
+int run_bench(const BenchArgs& args, MPI_Comm comm) {
+  try {
+    MPI_Barrier(comm);
+    double start = MPI_Wtime();
+    const sphray::mpi::ParticleShare share = sphray::mpi::read_particle_share(comm, args.particles);
+    const double read_seconds = max_over_ranks(MPI_Wtime() - start, comm);
+    const DistributedScene scene(comm, share.spheres.view(), share.ids);
+    const double build_seconds = max_over_ranks(scene.build_seconds(), comm);
+    const double bytes = max_over_ranks(static_cast<double>(scene.local_bytes()), comm);
+    const auto [lo, hi] = global_bounds(share.spheres, comm);
+    const auto side =
+        static_cast<std::uint64_t>(std::ceil(std::sqrt(static_cast<double>(args.rays))));
+    std::vector<sphray::Ray> rays(args.batch);
+    std::vector<sphray::Hit> hits(args.batch);
+    std::uint64_t found = 0;
+    MPI_Barrier(comm);
+    start = MPI_Wtime();
+    for (std::uint64_t first = 0; first < args.rays; first += args.batch) {
+      const std::size_t n =
+          static_cast<std::size_t>(std::min<std::uint64_t>(args.batch, args.rays - first));
+      for (std::size_t k = 0; k < n; ++k)
+        rays[k] = view_ray(first + k, side, lo, hi);
+      scene.intersect(std::span(rays.data(), n), std::span(hits.data(), n));
+      for (std::size_t k = 0; k < n; ++k)
+        found += hits[k].found() ? 1 : 0;
+    }
+    const double trace_seconds = max_over_ranks(MPI_Wtime() - start, comm);
+    const double reduce_seconds = max_over_ranks(scene.times().reduce, comm);
+    const double local_seconds = max_over_ranks(scene.times().local, comm);
+    if (rank_of(comm) == 0) {
+      std::printf("| %d | %zu | %.1f | %.2f | %.2f | %.3g | %.2f | %.2f | %.1f%% |\n",
+                  size_of(comm), scene.global_size(), bytes / (1 << 20), read_seconds,
+                  build_seconds, static_cast<double>(args.rays) / trace_seconds, local_seconds,
+                  reduce_seconds,
+                  100.0 * static_cast<double>(found) / static_cast<double>(args.rays));
+    }
+    return 0;
+  } catch (const sphray::mpi::ParticleFileError& e) {
+    report(e.what());
+    return kExitUsage;
+  }
+}
+
 void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_option("--scene,-s", args.scene, "A preset or a .json file (as sphray render)")
       ->capture_default_str();
@@ -189,6 +299,21 @@ int run(int argc, char** argv, MPI_Comm comm) {
   RenderArgs render_args;
   CLI::App* render = app.add_subcommand("render", "Render a scene; rank 0 writes the image");
   add_render_options(*render, render_args);
+  std::string generate_scene, generate_output;
+  CLI::App* generate =
+      app.add_subcommand("generate", "Write a scene's spheres (e.g. random:N) as a particle file");
+  generate->add_option("scene", generate_scene, "A preset (random:N) or a .json scene")->required();
+  generate->add_option("-o,--output", generate_output, "The particle file to write")->required();
+  BenchArgs bench_args;
+  CLI::App* bench = app.add_subcommand(
+      "bench", "Read a particle file over the ranks, build, trace; print one table row");
+  bench->add_option("particles", bench_args.particles, "A particle file")->required();
+  bench->add_option("--rays", bench_args.rays, "Closest-hit rays to trace")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 32))
+      ->capture_default_str();
+  bench->add_option("--batch", bench_args.batch, "Rays per reduction")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 24))
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -199,6 +324,8 @@ int run(int argc, char** argv, MPI_Comm comm) {
     return kExitUsage;
   }
   if (*render) return run_render(render_args, comm);
+  if (*generate) return run_generate(generate_scene, generate_output, comm);
+  if (*bench) return run_bench(bench_args, comm);
   return kExitUsage;
 }
 

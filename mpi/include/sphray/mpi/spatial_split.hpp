@@ -11,6 +11,10 @@
 
 namespace sphray::mpi {
 
+/// Every id of spheres, ordered along a Morton curve through the box around the finite centres
+/// (ties by id); spheres with a NaN or infinite centre first.
+std::vector<std::uint32_t> morton_order(SphereView spheres);
+
 /// The ids of the spheres rank `rank` of `ranks` owns, ascending. Spheres with a NaN or
 /// infinite centre go with the first run (they are never hit; they keep their ids). Every id of
 /// spheres belongs to exactly one rank.
