@@ -187,6 +187,7 @@ struct BenchArgs {
   std::string particles;
   std::uint64_t rays = 1 << 20;
   std::size_t batch = 1 << 16;
+  bool beside = false;  // rays that pass beside the box: what a rank's root alone costs
 };
 
 double max_over_ranks(double value, MPI_Comm comm) {
@@ -214,15 +215,18 @@ std::pair<sphray::Vec3, sphray::Vec3> global_bounds(const sphray::SphereSoA& sph
   return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
 }
 
-// Ray i of a pinhole view of the box from in front (+z), on a square grid of rays_total rays:
-// the same on every rank, from i alone.
-sphray::Ray view_ray(std::uint64_t i, std::uint64_t side, sphray::Vec3 lo, sphray::Vec3 hi) {
+// Ray i of a pinhole view of the box from in front (+z), on a square grid of side^2 rays: the
+// same on every rank, from i alone. beside: the view is moved two box widths along +x, so that
+// every ray passes the box (and each rank's tree rejects it at its root).
+sphray::Ray view_ray(std::uint64_t i, std::uint64_t side, sphray::Vec3 lo, sphray::Vec3 hi,
+                     bool beside) {
   const sphray::Vec3 center = 0.5f * (lo + hi);
   const float extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
   const sphray::Vec3 eye{center.x, center.y, hi.z + extent};
   const float u = (static_cast<float>(i % side) + 0.5f) / static_cast<float>(side);
   const float v = (static_cast<float>(i / side) + 0.5f) / static_cast<float>(side);
-  const sphray::Vec3 target{lo.x + u * (hi.x - lo.x), lo.y + v * (hi.y - lo.y), hi.z};
+  const float shift = beside ? 2.0f * extent : 0.0f;
+  const sphray::Vec3 target{lo.x + shift + u * (hi.x - lo.x), lo.y + v * (hi.y - lo.y), hi.z};
   return sphray::Ray{eye, target - eye};
 }
 
@@ -249,7 +253,7 @@ int run_bench(const BenchArgs& args, MPI_Comm comm) {
       const std::size_t n =
           static_cast<std::size_t>(std::min<std::uint64_t>(args.batch, args.rays - first));
       for (std::size_t k = 0; k < n; ++k)
-        rays[k] = view_ray(first + k, side, lo, hi);
+        rays[k] = view_ray(first + k, side, lo, hi, args.beside);
       scene.intersect(std::span(rays.data(), n), std::span(hits.data(), n));
       for (std::size_t k = 0; k < n; ++k)
         found += hits[k].found() ? 1 : 0;
@@ -314,6 +318,8 @@ int run(int argc, char** argv, MPI_Comm comm) {
   bench->add_option("--batch", bench_args.batch, "Rays per reduction")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 24))
       ->capture_default_str();
+  bench->add_flag("--beside", bench_args.beside,
+                  "Aim every ray beside the spheres: the cost of a tree's root alone");
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
