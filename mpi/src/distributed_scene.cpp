@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 #include "reductions.hpp"
 
@@ -45,12 +46,32 @@ DistributedScene::DistributedScene(MPI_Comm comm, SphereView spheres,
                                    std::span<const std::uint32_t> global_ids,
                                    BvhBuildOptions options)
     : comm_(comm) {
-  if (global_ids.size() != spheres.count)
-    throw std::invalid_argument("expected one global id per sphere");
+  // A share refused on one rank must stop every rank, or the others would wait for it in the
+  // first reduction: the outcome travels with the sphere count.
+  enum Refusal : unsigned long long { kNone = 0, kInvalid = 1, kFailed = 2 };
+  std::string error;
+  unsigned long long refusal = kNone;
   const double start = MPI_Wtime();
-  const SphereSoA local = sorted_by_id(spheres, global_ids, ids_);
-  bvh_ = SphereBVH(local.view(), options);
+  try {
+    if (global_ids.size() != spheres.count)
+      throw std::invalid_argument("expected one global id per sphere");
+    const SphereSoA local = sorted_by_id(spheres, global_ids, ids_);
+    bvh_ = SphereBVH(local.view(), options);
+  } catch (const std::invalid_argument& e) {
+    error = e.what();
+    refusal = kInvalid;
+  } catch (const std::exception& e) {  // std::bad_alloc, std::length_error from the tree
+    error = e.what();
+    refusal = kFailed;
+  }
   build_seconds_ = MPI_Wtime() - start;
+  unsigned long long worst = kNone;
+  MPI_Allreduce(&refusal, &worst, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, comm_);
+  if (worst != kNone) {
+    if (refusal == kNone) error = "another rank's spheres were refused";
+    if ((refusal != kNone ? refusal : worst) == kInvalid) throw std::invalid_argument(error);
+    throw std::runtime_error(error);
+  }
   unsigned long long count = ids_.size(), total = 0;
   MPI_Allreduce(&count, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_);
   global_size_ = static_cast<std::size_t>(total);

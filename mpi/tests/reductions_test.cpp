@@ -11,6 +11,7 @@
 #include <functional>
 #include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "sphray/mpi/distributed_scene.hpp"
@@ -234,6 +235,25 @@ TEST(MpiReductions, RepeatedIdsAreRefused) {
   EXPECT_THROW(DistributedScene(MPI_COMM_WORLD, two.view(), twice), std::invalid_argument);
   const std::vector<std::uint32_t> one{4};
   EXPECT_THROW(DistributedScene(MPI_COMM_WORLD, two.view(), one), std::invalid_argument);
+}
+
+TEST(MpiReductions, AShareRefusedOnOneRankStopsEveryRank) {
+  // Only rank 0 repeats an id; had the others gone on to their first reduction, they would wait
+  // for rank 0 for ever (ctest's timeout would catch that).
+  SphereSoA two;
+  two.add({0, 0, 0}, 1);
+  two.add({3, 0, 0}, 1);
+  const auto base = static_cast<std::uint32_t>(2 * rank());
+  const std::vector<std::uint32_t> ids =
+      rank() == 0 ? std::vector<std::uint32_t>{0, 0} : std::vector<std::uint32_t>{base, base + 1};
+  try {
+    const DistributedScene scene(MPI_COMM_WORLD, two.view(), ids);
+    ADD_FAILURE() << "rank " << rank() << " built a scene";
+  } catch (const std::invalid_argument& e) {
+    if (rank() != 0) {
+      EXPECT_EQ(std::string(e.what()), "another rank's spheres were refused");
+    }
+  }
 }
 
 }  // namespace
