@@ -79,9 +79,13 @@ using Recorder = std::function<void(int bounce, std::span<const Ray> rays)>;
 // kept packed at the front of the arrays, in pixel order. Fixed-size buffers: no allocation.
 class TileTracer {
  public:
-  TileTracer(const Scene& scene, const Camera& camera, const SceneQueries& queries,
+  TileTracer(const Scene& scene, const Camera& camera, const RayQueries& queries,
              const RenderOptions& options)
-      : scene_(scene), camera_(camera), queries_(queries), options_(options) {}
+      : scene_(scene),
+        view_(scene.spheres.view()),
+        camera_(camera),
+        queries_(queries),
+        options_(options) {}
 
   void trace(const Tile& tile, std::uint32_t sample, Vec3* sums, Counters& counters,
              const Recorder* recorder) const {
@@ -119,7 +123,7 @@ class TileTracer {
           radiance[s] += throughput[k] * scene_.sky.radiance(ray.dir);
           continue;
         }
-        const Surface surface = queries_.surface(ray, hits[k]);
+        const Surface surface = sphray::surface(view_, ray, hits[k]);
         const auto next = scatter(material_of(scene_, hits[k].id), ray.dir, surface, random[k]);
         if (!next) continue;  // absorbed
         throughput[kept] = throughput[k] * next->attenuation;
@@ -156,8 +160,9 @@ class TileTracer {
   }
 
   const Scene& scene_;
+  SphereView view_;
   const Camera& camera_;
-  const SceneQueries& queries_;
+  const RayQueries& queries_;
   const RenderOptions& options_;
 };
 
@@ -170,16 +175,40 @@ double seconds_since(Clock::time_point start) {
 std::vector<Vec3> render_radiance(const Scene& scene, const RenderOptions& options,
                                   const Progress& progress, RenderStats* stats) {
   check(options);
-  const Camera camera(scene.camera, options.width, options.height);
   const auto build_start = Clock::now();
   const SceneQueries queries(scene.spheres, options.accel, options.threads);
   const double build_seconds = seconds_since(build_start);
+  std::vector<Vec3> image = render_radiance(scene, queries, options, progress, stats);
+  if (stats != nullptr) {
+    stats->build_seconds = queries.uses_bvh() ? build_seconds : 0.0;
+    stats->bvh = queries.uses_bvh();
+  }
+  return image;
+}
+
+std::vector<Vec3> render_radiance(const Scene& scene, const RayQueries& queries,
+                                  const RenderOptions& options, const Progress& progress,
+                                  RenderStats* stats) {
+  check(options);
+  if (queries.collective() && options.time_limit > 0.0) {
+    throw std::invalid_argument(
+        "time limit: not with queries shared between processes (their clocks differ)");
+  }
+  const Camera camera(scene.camera, options.width, options.height);
   const TileTracer tracer(scene, camera, queries, options);
   const std::size_t tiles = tile_count(options.width, options.height);
   // Sums per tile, each tile's pixels together, so a tile's thread writes one block.
   std::vector<Vec3> sums(tiles * kTilePixels, Vec3{0, 0, 0});
   Counters counters;
   const std::size_t total = tiles * static_cast<std::size_t>(options.spp);
+  const auto trace_tiles = [&](std::uint32_t sample, std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t != end; ++t) {
+      tracer.trace(tile_at(t, options.width, options.height), sample, &sums[t * kTilePixels],
+                   counters, nullptr);
+      const std::size_t done = ++counters.tiles_done;
+      if (progress) progress(done, total, counters.rays());
+    }
+  };
 
   // One pass per sample over every tile: a time limit is checked between passes, so every
   // pixel gets the same number of samples (at least one), and a pass is never cut short.
@@ -188,16 +217,15 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RenderOptions& optio
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   while (passes < options.spp) {
     const auto sample = static_cast<std::uint32_t>(passes);
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles, 1), [&](const auto& range) {
-        for (std::size_t t = range.begin(); t != range.end(); ++t) {
-          tracer.trace(tile_at(t, options.width, options.height), sample, &sums[t * kTilePixels],
-                       counters, nullptr);
-          const std::size_t done = ++counters.tiles_done;
-          if (progress) progress(done, total, counters.rays());
-        }
+    if (queries.collective()) {
+      trace_tiles(sample, 0, tiles);  // every process the same calls in the same order
+    } else {
+      arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles, 1), [&](const auto& range) {
+          trace_tiles(sample, range.begin(), range.end());
+        });
       });
-    });
+    }
     ++passes;
     if (options.time_limit > 0.0 && seconds_since(start) >= options.time_limit) break;
   }
@@ -218,8 +246,8 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RenderOptions& optio
   }
   if (stats != nullptr) {
     stats->seconds = seconds;
-    stats->build_seconds = queries.uses_bvh() ? build_seconds : 0.0;
-    stats->bvh = queries.uses_bvh();
+    stats->build_seconds = 0.0;
+    stats->bvh = false;
     stats->camera_rays = counters.camera;
     stats->bounce_rays = counters.bounce;
     stats->shadow_rays = 0;
@@ -230,18 +258,30 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RenderOptions& optio
   return image;
 }
 
-Image render_path(const Scene& scene, const RenderOptions& options, const Progress& progress,
-                  RenderStats* stats) {
-  const std::vector<Vec3> radiance = render_radiance(scene, options, progress, stats);
+namespace {
+
+// Gamma 2, as the book's linear_to_gamma: the square root of the clamped-below value.
+Image encode(const RenderOptions& options, const std::vector<Vec3>& radiance) {
   Image image{options.width, options.height, std::vector<std::uint8_t>(3 * radiance.size())};
   for (std::size_t i = 0; i < radiance.size(); ++i) {
-    // Gamma 2, as the book's linear_to_gamma: the square root of the clamped-below value.
     const Vec3 c = radiance[i];
     image.rgb[3 * i + 0] = to_byte(std::sqrt(std::max(c.x, 0.0f)));
     image.rgb[3 * i + 1] = to_byte(std::sqrt(std::max(c.y, 0.0f)));
     image.rgb[3 * i + 2] = to_byte(std::sqrt(std::max(c.z, 0.0f)));
   }
   return image;
+}
+
+}  // namespace
+
+Image render_path(const Scene& scene, const RenderOptions& options, const Progress& progress,
+                  RenderStats* stats) {
+  return encode(options, render_radiance(scene, options, progress, stats));
+}
+
+Image render_path(const Scene& scene, const RayQueries& queries, const RenderOptions& options,
+                  const Progress& progress, RenderStats* stats) {
+  return encode(options, render_radiance(scene, queries, options, progress, stats));
 }
 
 std::vector<Ray> record_path_rays(const Scene& scene, const RenderOptions& options,

@@ -9,6 +9,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <optional>
+#include <span>
 #include <stdexcept>
 
 #include "scene_queries.hpp"
@@ -53,22 +55,38 @@ Vec3 id_color(std::uint32_t id) {
   return {channel(0), channel(8), channel(16)};
 }
 
-// Shades one ray's hit in the chosen mode. Everything but shaded mode's shadow ray is
-// arithmetic on the hit and the surface the kernel reports.
+// Shades one ray's hit in the chosen mode: arithmetic on the hit and its surface, and in
+// shaded mode whether the hit sees the light (its shadow ray, traced by the caller).
 class Shader {
  public:
-  Shader(const Scene& scene, const SceneQueries& queries, Mode mode)
-      : scene_(scene), queries_(queries), mode_(mode) {
+  Shader(const Scene& scene, Mode mode) : scene_(scene), view_(scene.spheres.view()), mode_(mode) {
     // Depth: grey = D / (D + distance), D the camera's distance to what it looks at, so the
     // point of interest is mid-grey whatever the scene's scale.
     depth_scale_ = length(scene.camera.lookfrom - scene.camera.lookat);
   }
 
-  Vec3 shade(const Ray& ray, const Hit& hit, std::uint64_t& shadow_rays) const {
+  bool casts_shadows() const { return mode_ == Mode::shaded; }
+
+  // Shaded mode: the ray from the hit towards the light, or none where the surface faces away
+  // from it (or the ray missed).
+  std::optional<Ray> shadow_ray(const Ray& ray, const Hit& hit) const {
+    if (!hit.found()) return std::nullopt;
+    const Surface s = surface(view_, ray, hit);
+    const Vec3 normal = s.front_face ? s.normal : -s.normal;
+    if (!(dot(normal, kLight) > 0.0f)) return std::nullopt;
+    // Start the shadow ray a little off the surface, relative to the point's magnitude, so
+    // rounding cannot put it back inside the sphere it leaves.
+    const Vec3 p = s.point;
+    const float scale = std::max({1.0f, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    return Ray{p + (1e-4f * scale) * normal, kLight};
+  }
+
+  // lit: shaded mode, whether the hit's shadow ray reached the light.
+  Vec3 shade(const Ray& ray, const Hit& hit, bool lit) const {
     if (!hit.found()) return mode_ == Mode::depth || mode_ == Mode::id ? Vec3{0, 0, 0} : sky(ray);
     switch (mode_) {
       case Mode::normals:
-        return 0.5f * (queries_.surface(ray, hit).normal + Vec3{1, 1, 1});
+        return 0.5f * (surface(view_, ray, hit).normal + Vec3{1, 1, 1});
       case Mode::flat:
         return {1, 0, 0};
       case Mode::depth: {
@@ -78,7 +96,7 @@ class Shader {
       case Mode::id:
         return id_color(hit.id);
       case Mode::shaded:
-        return diffuse(ray, hit, shadow_rays);
+        return diffuse(ray, hit, lit);
       case Mode::path:
         break;  // render_path
     }
@@ -89,26 +107,16 @@ class Shader {
   float encode(float c) const { return mode_ == Mode::shaded ? std::sqrt(std::max(c, 0.0f)) : c; }
 
  private:
-  Vec3 diffuse(const Ray& ray, const Hit& hit, std::uint64_t& shadow_rays) const {
-    Surface s = queries_.surface(ray, hit);
-    Vec3 normal = s.front_face ? s.normal : -s.normal;
-    Vec3 albedo = scene_.colors[hit.id];
-    float cosine = dot(normal, kLight);
-    float light = 0.0f;
-    if (cosine > 0.0f) {
-      // Start the shadow ray a little off the surface, relative to the point's magnitude, so
-      // rounding cannot put it back inside the sphere it leaves.
-      Vec3 p = s.point;
-      float scale = std::max({1.0f, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-      Ray shadow{p + (1e-4f * scale) * normal, kLight};
-      ++shadow_rays;
-      if (!queries_.occluded(shadow)) light = cosine;
-    }
+  Vec3 diffuse(const Ray& ray, const Hit& hit, bool lit) const {
+    const Surface s = surface(view_, ray, hit);
+    const Vec3 normal = s.front_face ? s.normal : -s.normal;
+    const Vec3 albedo = scene_.colors[hit.id];
+    const float light = lit ? dot(normal, kLight) : 0.0f;
     return (kAmbient + (1.0f - kAmbient) * light) * albedo;
   }
 
   const Scene& scene_;
-  const SceneQueries& queries_;
+  SphereView view_;
   Mode mode_;
   float depth_scale_;
 };
@@ -124,13 +132,38 @@ TileRect tile_rect(std::size_t tile, int image_width, int image_height) {
   return {x0, y0, std::min(kTileSize, image_width - x0), std::min(kTileSize, image_height - y0)};
 }
 
+// Shaded mode: the shadow rays of a batch of hits, traced as one batch; lit[i] says whether
+// hit i sees the light. Returns the number of shadow rays.
+std::uint64_t trace_shadows(const Shader& shader, const RayQueries& queries,
+                            std::span<const Ray> rays, std::span<const Hit> hits,
+                            std::span<bool> lit) {
+  std::array<Ray, kTilePixels> shadows;
+  std::array<std::uint16_t, kTilePixels> owner;  // the hit each shadow ray starts from
+  std::array<bool, kTilePixels> blocked;
+  std::size_t m = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    lit[i] = false;
+    if (const auto shadow = shader.shadow_ray(rays[i], hits[i])) {
+      shadows[m] = *shadow;
+      owner[m] = static_cast<std::uint16_t>(i);
+      ++m;
+    }
+  }
+  queries.occluded(std::span(shadows.data(), m), std::span(blocked.data(), m));
+  for (std::size_t k = 0; k < m; ++k)
+    lit[owner[k]] = !blocked[k];
+  return m;
+}
+
 // Renders one tile into image: per sample, the tile's camera rays go to the kernel as one
-// stream, then each hit is shaded and summed. Fixed-size buffers on the stack: no allocation.
-std::uint64_t render_tile(const TileRect& r, const Camera& camera, const SceneQueries& queries,
+// stream (in shaded mode, then their shadow rays as another), then each hit is shaded and
+// summed. Fixed-size buffers on the stack: no allocation.
+std::uint64_t render_tile(const TileRect& r, const Camera& camera, const RayQueries& queries,
                           const Shader& shader, const RenderOptions& options, Image& image) {
   std::array<Ray, kTilePixels> rays;
   std::array<Hit, kTilePixels> hits;
   std::array<Vec3, kTilePixels> sum{};
+  std::array<bool, kTilePixels> lit{};
   std::size_t n = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
   std::uint64_t shadow_rays = 0;
   for (int s = 0; s < options.spp; ++s) {
@@ -144,8 +177,12 @@ std::uint64_t render_tile(const TileRect& r, const Camera& camera, const SceneQu
       rays[i] = camera.ray(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
     }
     queries.intersect(std::span(rays.data(), n), std::span(hits.data(), n));
+    if (shader.casts_shadows()) {
+      shadow_rays += trace_shadows(shader, queries, std::span(rays.data(), n),
+                                   std::span(hits.data(), n), std::span(lit.data(), n));
+    }
     for (std::size_t i = 0; i < n; ++i)
-      sum[i] += shader.shade(rays[i], hits[i], shadow_rays);
+      sum[i] += shader.shade(rays[i], hits[i], lit[i]);
   }
   float inverse_spp = 1.0f / static_cast<float>(options.spp);
   for (std::size_t i = 0; i < n; ++i) {
@@ -221,12 +258,24 @@ Image render(const Scene& scene, const RenderOptions& options, const Progress& p
              RenderStats* stats) {
   check_options(options);
   if (options.mode == Mode::path) return render_path(scene, options, progress, stats);
-  Camera camera(scene.camera, options.width, options.height);
   auto build_start = std::chrono::steady_clock::now();
   SceneQueries queries(scene.spheres, options.accel, options.threads);
   auto build_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
-  Shader shader(scene, queries, options.mode);
+  Image image = render(scene, queries, options, progress, stats);
+  if (stats != nullptr) {
+    stats->build_seconds = queries.uses_bvh() ? build_seconds : 0.0;
+    stats->bvh = queries.uses_bvh();
+  }
+  return image;
+}
+
+Image render(const Scene& scene, const RayQueries& queries, const RenderOptions& options,
+             const Progress& progress, RenderStats* stats) {
+  check_options(options);
+  if (options.mode == Mode::path) return render_path(scene, queries, options, progress, stats);
+  Camera camera(scene.camera, options.width, options.height);
+  Shader shader(scene, options.mode);
   Image image{options.width, options.height,
               std::vector<std::uint8_t>(3 * static_cast<std::size_t>(options.width) *
                                         static_cast<std::size_t>(options.height))};
@@ -236,28 +285,34 @@ Image render(const Scene& scene, const RenderOptions& options, const Progress& p
   std::atomic<std::size_t> done{0};
   std::atomic<std::uint64_t> shadow_rays{0};
   std::atomic<std::uint64_t> camera_rays{0};
+  auto render_tiles = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t != end; ++t) {
+      TileRect rect = tile_rect(t, options.width, options.height);
+      shadow_rays += render_tile(rect, camera, queries, shader, options, image);
+      std::size_t finished = ++done;
+      camera_rays += static_cast<std::uint64_t>(rect.width) *
+                     static_cast<std::uint64_t>(rect.height) *
+                     static_cast<std::uint64_t>(options.spp);
+      if (progress) progress(finished, tiles, {camera_rays, 0, shadow_rays});
+    }
+  };
 
   auto start = std::chrono::steady_clock::now();
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles, 1), [&](const auto& range) {
-      for (std::size_t t = range.begin(); t != range.end(); ++t) {
-        TileRect rect = tile_rect(t, options.width, options.height);
-        shadow_rays += render_tile(rect, camera, queries, shader, options, image);
-        std::size_t finished = ++done;
-        camera_rays += static_cast<std::uint64_t>(rect.width) *
-                       static_cast<std::uint64_t>(rect.height) *
-                       static_cast<std::uint64_t>(options.spp);
-        if (progress) progress(finished, tiles, {camera_rays, 0, shadow_rays});
-      }
+  if (queries.collective()) {
+    render_tiles(0, tiles);  // every process the same calls in the same order
+  } else {
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles, 1),
+                        [&](const auto& range) { render_tiles(range.begin(), range.end()); });
     });
-  });
+  }
   auto seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   if (stats != nullptr) {
     stats->seconds = seconds;
-    stats->build_seconds = queries.uses_bvh() ? build_seconds : 0.0;
-    stats->bvh = queries.uses_bvh();
+    stats->build_seconds = 0.0;
+    stats->bvh = false;
     stats->camera_rays = static_cast<std::uint64_t>(options.width) *
                          static_cast<std::uint64_t>(options.height) *
                          static_cast<std::uint64_t>(options.spp);

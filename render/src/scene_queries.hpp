@@ -7,12 +7,13 @@
 #include <optional>
 #include <span>
 
+#include "sphray/render/ray_queries.hpp"
 #include "sphray/render/renderer.hpp"
 #include "sphray/sphray.hpp"
 
 namespace sphray::render {
 
-class SceneQueries {
+class SceneQueries final : public RayQueries {
  public:
   /// From this many spheres on, Accel::automatic builds a BVH: the measured crossover, where the
   /// tree starts to beat the brute-force kernel (docs/bvh.md).
@@ -27,7 +28,7 @@ class SceneQueries {
 
   bool uses_bvh() const { return bvh_.has_value(); }
 
-  void intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
+  void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override {
     if (bvh_) {
       sphray::intersect(*bvh_, rays, hits);
     } else {
@@ -36,6 +37,10 @@ class SceneQueries {
   }
   bool occluded(const Ray& ray) const {
     return bvh_ ? sphray::occluded(*bvh_, ray) : sphray::occluded(view_, ray);
+  }
+  void occluded(std::span<const Ray> rays, std::span<bool> out) const override {
+    for (std::size_t i = 0; i < rays.size(); ++i)
+      out[i] = occluded(rays[i]);
   }
   Surface surface(const Ray& ray, const Hit& hit) const { return sphray::surface(view_, ray, hit); }
 

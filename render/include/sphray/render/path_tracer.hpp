@@ -25,9 +25,16 @@ namespace sphray::render {
 std::vector<Vec3> render_radiance(const Scene& scene, const RenderOptions& options,
                                   const Progress& progress = {}, RenderStats* stats = nullptr);
 
+/// The same, the hits answered by queries (render() with a RayQueries).
+std::vector<Vec3> render_radiance(const Scene& scene, const RayQueries& queries,
+                                  const RenderOptions& options, const Progress& progress = {},
+                                  RenderStats* stats = nullptr);
+
 /// render() in Mode::path: render_radiance, gamma 2, bytes as the book writes them.
 Image render_path(const Scene& scene, const RenderOptions& options, const Progress& progress,
                   RenderStats* stats);
+Image render_path(const Scene& scene, const RayQueries& queries, const RenderOptions& options,
+                  const Progress& progress, RenderStats* stats);
 
 /// Every ray path mode traces at bounce first_bounce to last_bounce (0: the camera rays,
 /// 1: the first bounce), in tile and sample order, on one thread: the benchmark's recorded

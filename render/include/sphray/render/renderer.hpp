@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "sphray/render/ray_queries.hpp"
 #include "sphray/render/scene.hpp"
 
 namespace sphray::render {
@@ -74,6 +75,12 @@ inline constexpr int kTileSize = 16;
 /// placed, std::invalid_argument for a size, spp or thread count out of range.
 Image render(const Scene& scene, const RenderOptions& options, const Progress& progress = {},
              RenderStats* stats = nullptr);
+
+/// The same image, the spheres' hits answered by queries instead of the renderer's own (which
+/// must give the same answers for scene.spheres: the image is then the same bit for bit).
+/// options.accel is not used; stats report no tree.
+Image render(const Scene& scene, const RayQueries& queries, const RenderOptions& options,
+             const Progress& progress = {}, RenderStats* stats = nullptr);
 
 /// The shading of one ray's hit, exposed for tests and for embedding in other loops.
 Vec3 sky(const Ray& ray);

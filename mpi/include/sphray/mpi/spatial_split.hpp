@@ -1,0 +1,23 @@
+// Splitting spheres between ranks by place: sorted along a Morton (Z-order) curve through the
+// box around their centres, then cut into runs of equal count, so that each rank owns a
+// compact region of space and similar work. The split depends on the spheres alone, so every
+// rank that holds the same spheres computes the same one without talking to the others.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sphray/sphray.hpp"
+
+namespace sphray::mpi {
+
+/// Every id of spheres, ordered along a Morton curve through the box around the finite centres
+/// (ties by id); spheres with a NaN or infinite centre first.
+std::vector<std::uint32_t> morton_order(SphereView spheres);
+
+/// The ids of the spheres rank `rank` of `ranks` owns, ascending. Spheres with a NaN or
+/// infinite centre go with the first run (they are never hit; they keep their ids). Every id of
+/// spheres belongs to exactly one rank.
+std::vector<std::uint32_t> spatial_share(SphereView spheres, int rank, int ranks);
+
+}  // namespace sphray::mpi

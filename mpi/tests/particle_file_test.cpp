@@ -1,0 +1,175 @@
+// The particle file, read by every rank in parallel: the runs the ranks read make up the file,
+// a scene built from them answers as the single-process kernel over the file's spheres, and a
+// broken file is refused on every rank alike (the test would hang, and time out, if one rank
+// went on to a reduction the others never reach).
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <bit>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "sphray/mpi/distributed_scene.hpp"
+#include "sphray/mpi/particle_file.hpp"
+#include "sphray/sphray.hpp"
+
+namespace {
+
+using sphray::mpi::ParticleFileError;
+
+int rank() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+
+// A file name of this run's own (every rank the same), in the working directory.
+std::filesystem::path scratch(const std::string& name) {
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  return std::filesystem::current_path() / ("particles-" + std::to_string(ranks) + "-" + name);
+}
+
+// Rank 0 writes bytes to file; every rank waits until it has.
+void write_on_rank0(const std::filesystem::path& file, const std::vector<unsigned char>& bytes) {
+  if (rank() == 0) {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+std::vector<unsigned char> read_all(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The format as the header documents it, decoded here independently of the library: the
+// particles of a well-formed file, in file order.
+sphray::SphereSoA decode(const std::vector<unsigned char>& bytes) {
+  const auto le32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    for (int i = 3; i >= 0; --i)
+      v = v << 8 | bytes[at + static_cast<std::size_t>(i)];
+    return v;
+  };
+  std::uint64_t count = le32(16) | std::uint64_t{le32(20)} << 32;
+  sphray::SphereSoA spheres;
+  for (std::uint64_t i = 0; i < count; ++i) {
+    const std::size_t at = 32 + 16 * i;
+    spheres.add({std::bit_cast<float>(le32(at)), std::bit_cast<float>(le32(at + 4)),
+                 std::bit_cast<float>(le32(at + 8))},
+                std::bit_cast<float>(le32(at + 12)));
+  }
+  return spheres;
+}
+
+sphray::SphereSoA random_spheres(std::size_t n) {
+  std::mt19937 rng(11);
+  const auto u = [&](float lo, float hi) {
+    return lo + (hi - lo) * static_cast<float>(rng() >> 8) * 0x1p-24f;
+  };
+  sphray::SphereSoA spheres;
+  for (std::size_t i = 0; i < n; ++i)
+    spheres.add({u(-5, 5), u(-5, 5), u(-5, 5)}, u(0.05f, 0.4f));
+  return spheres;
+}
+
+TEST(MpiParticleFile, RanksReadTheWholeFileAndAnswerAsOneProcess) {
+  const auto file = scratch("good.sphp");
+  const sphray::SphereSoA written = random_spheres(2500);
+  if (rank() == 0) sphray::mpi::write_particles(file, written.view());
+  MPI_Barrier(MPI_COMM_WORLD);
+  const std::vector<unsigned char> bytes = read_all(file);
+  ASSERT_EQ(bytes.size(), 32u + 16u * 2500u);
+  EXPECT_EQ(std::memcmp(bytes.data(), "SPHRAYP\0", 8), 0);
+  const sphray::SphereSoA all = decode(bytes);
+
+  const sphray::mpi::ParticleShare share = sphray::mpi::read_particle_share(MPI_COMM_WORLD, file);
+  EXPECT_EQ(share.total, 2500u);
+  for (std::size_t k = 0; k < share.ids.size(); ++k) {
+    const std::uint32_t id = share.ids[k];
+    EXPECT_EQ(share.spheres.center(static_cast<std::uint32_t>(k)).x, all.center(id).x);
+    EXPECT_EQ(share.spheres.radius(static_cast<std::uint32_t>(k)), all.radius(id));
+  }
+  unsigned long long mine = share.ids.size(), sum = 0;
+  MPI_Allreduce(&mine, &sum, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(sum, 2500u);
+
+  const sphray::mpi::DistributedScene scene(MPI_COMM_WORLD, share.spheres.view(), share.ids);
+  std::mt19937 rng(12);
+  std::vector<sphray::Ray> rays(1000);
+  for (sphray::Ray& ray : rays) {
+    ray.origin = {0, 0, 20};
+    ray.dir = all.center(static_cast<std::uint32_t>(rng() % all.size())) - ray.origin;
+  }
+  std::vector<sphray::Hit> hits(rays.size());
+  scene.intersect(rays, hits);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const sphray::Hit expected = sphray::scalar::intersect(all.view(), rays[i]);
+    EXPECT_EQ(hits[i].id, expected.id) << "ray " << i;
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(hits[i].t), std::bit_cast<std::uint32_t>(expected.t));
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank() == 0) std::filesystem::remove(file);
+}
+
+// A broken file: every rank throws ParticleFileError naming the problem.
+void expect_refused(const std::string& name, const std::vector<unsigned char>& bytes,
+                    const std::string& words) {
+  const auto file = scratch(name);
+  write_on_rank0(file, bytes);
+  try {
+    sphray::mpi::read_particle_share(MPI_COMM_WORLD, file);
+    ADD_FAILURE() << name << ": read without an error";
+  } catch (const ParticleFileError& e) {
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank() == 0) std::filesystem::remove(file);
+}
+
+TEST(MpiParticleFile, BrokenFilesAreRefusedOnEveryRank) {
+  const auto good_file = scratch("source.sphp");
+  if (rank() == 0) sphray::mpi::write_particles(good_file, random_spheres(40).view());
+  MPI_Barrier(MPI_COMM_WORLD);
+  const std::vector<unsigned char> good = read_all(good_file);
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank() == 0) std::filesystem::remove(good_file);
+
+  std::vector<unsigned char> cut(good.begin(), good.end() - 5);
+  expect_refused("cut.sphp", cut, "truncated");
+  expect_refused("header.sphp", {good.begin(), good.begin() + 20}, "truncated");
+  expect_refused("empty.sphp", {}, "truncated");
+  std::vector<unsigned char> longer = good;
+  longer.push_back(0);
+  expect_refused("longer.sphp", longer, "trailing bytes");
+  std::vector<unsigned char> magic = good;
+  magic[0] = 'X';
+  expect_refused("magic.sphp", magic, "not a sphray particle file");
+  std::vector<unsigned char> version = good;
+  version[8] = 2;
+  expect_refused("version.sphp", version, "version 2");
+  std::vector<unsigned char> reserved = good;
+  reserved[27] = 1;
+  expect_refused("reserved.sphp", reserved, "reserved");
+  std::vector<unsigned char> count = good;
+  count[23] = 0x80;  // 2^63 particles: would overflow a size computed carelessly
+  expect_refused("count.sphp", count, "at most 2^32 - 2");
+
+  try {
+    sphray::mpi::read_particle_share(MPI_COMM_WORLD, scratch("missing.sphp"));
+    ADD_FAILURE() << "a missing file was read";
+  } catch (const ParticleFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot open"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace

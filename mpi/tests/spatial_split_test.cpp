@@ -1,0 +1,53 @@
+// spatial_share: every sphere goes to exactly one rank, in runs of equal size, and the ranks own
+// compact regions: their boxes together are well below the ranks' count times the scene's (a
+// split by id gives every rank nearly the whole scene's box).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "sphray/mpi/spatial_split.hpp"
+
+namespace {
+
+TEST(MpiSpatialSplit, EverySphereHasOneRankAndRanksOwnCompactRegions) {
+  std::mt19937 rng(3);
+  sphray::SphereSoA spheres;
+  for (int i = 0; i < 4000; ++i) {
+    const auto coordinate = [&] { return static_cast<float>(rng() % 1000) * 0.01f; };
+    spheres.add({coordinate(), coordinate(), coordinate()}, 0.1f);
+  }
+  spheres.set(17, {std::numeric_limits<float>::quiet_NaN(), 0, 0}, 0.1f);
+  for (int ranks = 1; ranks <= 5; ++ranks) {
+    std::vector<int> owners(spheres.size(), 0);
+    double volumes = 0;
+    for (int rank = 0; rank < ranks; ++rank) {
+      const std::vector<std::uint32_t> ids =
+          sphray::mpi::spatial_share(spheres.view(), rank, ranks);
+      EXPECT_TRUE(std::is_sorted(ids.begin(), ids.end()));
+      EXPECT_NEAR(static_cast<double>(ids.size()), 4000.0 / ranks, 1.0);
+      sphray::Vec3 lo{1e9f, 1e9f, 1e9f}, hi{-1e9f, -1e9f, -1e9f};
+      for (std::uint32_t id : ids) {
+        ++owners[id];
+        const sphray::Vec3 c = spheres.center(id);
+        if (!std::isfinite(c.x)) continue;
+        lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
+        hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
+      }
+      volumes += static_cast<double>(hi.x - lo.x) * (hi.y - lo.y) * (hi.z - lo.z);
+    }
+    // The scene's box is 10^3; a split by id gives ranks boxes of nearly that each. Runs of a
+    // Morton curve cut at other than powers of two are not boxes, so their boxes overlap some.
+    if (ranks > 1) {
+      EXPECT_LT(volumes, 0.7 * 1000.0 * ranks) << ranks << " ranks";
+    }
+    for (std::size_t id = 0; id < owners.size(); ++id)
+      EXPECT_EQ(owners[id], 1) << "sphere " << id << ", " << ranks << " ranks";
+  }
+  EXPECT_THROW(sphray::mpi::spatial_share(spheres.view(), 2, 2), std::invalid_argument);
+}
+
+}  // namespace

@@ -1,0 +1,26 @@
+// RayQueries: what the renderer asks of a scene's spheres, one batch of rays at a time. The
+// renderer makes its own from the scene (a BVH, or brute force below a few dozen spheres); a
+// caller may pass another that gives the same answers, such as spheres spread over the
+// processes of an MPI job (mpi/). Surfaces are always read from the scene's own spheres.
+#pragma once
+
+#include <span>
+
+#include "sphray/sphray.hpp"
+
+namespace sphray::render {
+
+class RayQueries {
+ public:
+  virtual ~RayQueries() = default;
+  /// hits[i]: the closest hit of rays[i] among the scene's spheres, with the scene's ids.
+  virtual void intersect(std::span<const Ray> rays, std::span<Hit> hits) const = 0;
+  /// out[i]: whether rays[i] hits any of the scene's spheres in (tmin, tmax).
+  virtual void occluded(std::span<const Ray> rays, std::span<bool> out) const = 0;
+  /// True when every call is collective: made by every process, in the same order, with
+  /// batches of the same sizes. The renderer then traces its tiles one after another, in
+  /// order, on the calling thread, and refuses a time limit (a clock is not the same on all).
+  virtual bool collective() const { return false; }
+};
+
+}  // namespace sphray::render
