@@ -86,6 +86,7 @@ void allocate_nodes(BvhArrays& out, std::size_t nodes) {
 // The sphere slots, rounded to 16 floats so that each of the four arrays starts on a cache
 // line, all never hit (radius 0, id kNoHit) until the leaves' spheres are written.
 void allocate_slots(BvhArrays& out, std::size_t slots) {
+  out.leaf_slots = slots;
   out.slots = (slots + 15) / 16 * 16;
   if (out.slots >= kBvhLeafBit) throw std::length_error("sphray::SphereBVH: too many spheres");
   out.spheres = allocate<float>(4 * out.slots);
@@ -149,6 +150,7 @@ BvhData BvhArrays::data() const {
     d.spheres = {x, x + slots, x + 2 * slots, x + 3 * slots, slots, slots, masks.get()};
   }
   d.ids = ids.get();
+  d.leaf_slots = leaf_slots;
   d.count = source_count;
   d.memory_bytes = memory_bytes();
   d.leaf_overlap = leaf_overlap;

@@ -24,6 +24,9 @@ struct BvhData {
   /// tree was built from (kNoHit for padding).
   SphereView spheres{nullptr, nullptr, nullptr, nullptr, 0, 0};
   const std::uint32_t* ids = nullptr;
+  /// The slots the leaves take, a multiple of width: the batches from slot 0 up to here hold
+  /// every sphere (a tree below the brute-force crossover is read as they lie, query_plan.hpp).
+  std::size_t leaf_slots = 0;
   /// The number of spheres the tree was built over.
   std::size_t count = 0;
   /// Bytes the nodes, spheres and ids take (SphereBVH::memory_bytes()).

@@ -6,6 +6,7 @@
 //   sphray::intersect(tree, ray)      1. scalar walk or SIMD walk
 //                                     2. the leaf test: branching or branch-free
 //                                     3. the box test: rays ahead of their origin, or any ray
+//                                     5. the walk, or every leaf as brute force (small trees)
 //   sphray::intersect(tree, rays, ..) 4. one ray at a time, or several walks in turns
 //
 // Measured in docs/performance.md and docs/bvh.md; docs/architecture.md follows a ray through.
@@ -77,6 +78,18 @@ struct QueryPlan {
       close += ab > 0.0f && 4.0f * ab * ab > aa * bb;  // cosine > 1/2, without sqrt or divide
     }
     return 2 * close < pairs;
+  }
+
+  // 5. A tree of at most kTreeBruteLeaves leaves is read as brute force reads a view, every
+  // leaf batch in slot order, without a box test (walk.hpp): there testing each batch costs a
+  // scattered ray less than the walk's box tests, stack and mispredicted branches, and the tree
+  // is never slower than brute force on its own spheres. Measured with `sphray bench` on random
+  // scenes, incoherent rays (docs/performance.md, "Small trees"): the walk overtakes between 8
+  // and 10 leaves on both widths (about 128 spheres for the 16-wide tree, 80 for the 8-wide).
+  // A tree of one leaf is always read so.
+  static constexpr std::size_t kTreeBruteLeaves = 8;
+  static bool brute_force_tree(const BvhData& bvh) {
+    return bvh.leaf_slots <= kTreeBruteLeaves * bvh.width;
   }
 };
 
