@@ -56,7 +56,7 @@ void print_header(const Context& c) {
   const std::string isas = supported_isa_list();
   std::printf("sphray bench: %s, %zu spheres, %d thread%s, %.2g s per row\n", c.scene.c_str(),
               c.spheres, c.threads, c.threads == 1 ? "" : "s", c.seconds_per_row);
-  std::printf("instruction sets: %s; brute force by default: %s, trees: %s (* marks them)\n",
+  std::printf("instruction sets: %s; queries: %s, trees: %s (* marks the rows they take)\n",
               isas.c_str(), std::string(isa_name(active_isa())).c_str(),
               std::string(isa_name(bvh_isa())).c_str());
   const std::string embree = embree_version();

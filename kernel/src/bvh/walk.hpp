@@ -84,12 +84,10 @@ struct TreeWalk {
   template <class Leaf>
   static void traverse(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf&& leaf) {
     if (bvh.node_count == 0) return;
-    // A small tree is read as brute force reads a view, every leaf batch in slot order, without
-    // a box test (QueryPlan::brute_force_tree). Each leaf folds its hits by (t, id), so the order
-    // the leaves come in changes no result.
-    if (QueryPlan::brute_force_tree(bvh)) {
-      for (std::size_t first = 0; first < bvh.leaf_slots; first += kWidth)
-        if (leaf(first)) return;
+    // A tree over at most kWidth spheres is one leaf, at slot 0: it is read directly, as brute
+    // force reads a batch, without a test of the root's mostly empty child boxes.
+    if (bvh.count <= kWidth) {
+      leaf(0);
       return;
     }
     if (QueryPlan::ahead(ray))
