@@ -4,6 +4,7 @@
 // before it is timed. Names: queries/<scene>/<query>/<tree|brute>/threads:1.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstring>
 #include <memory>
 #include <random>
@@ -13,6 +14,7 @@
 #include <benchmark/benchmark.h>
 
 #include "implementations.hpp"
+#include "threads.hpp"
 #include "workload.hpp"
 
 namespace sphray::bench {
@@ -183,6 +185,47 @@ std::size_t ref_overlaps(const Queries& q, const Vec3& p) {
   return scalar::overlapping(q.view, p, q.overlap_radius, ids);
 }
 
+// A simulation step's broad phase: every sphere of the scene asks the tree which spheres
+// overlap it. Rates: spheres asked per second, and overlapping pairs found per second (each
+// unordered pair once; a sphere does not pair with itself). Checked first on a sample of
+// spheres against the scalar reference's counts.
+void broad_phase(benchmark::State& state, std::string_view scene_name, int threads) {
+  const Scene& s = scene(scene_name);
+  const SphereView view = s.spheres.view();
+  constexpr std::size_t kRoom = 64;  // ids kept per query; the count is exact beyond it
+  auto overlaps_of = [&](std::uint32_t i, std::span<std::uint32_t> ids) {
+    return overlapping(s.tree, {view.cx[i], view.cy[i], view.cz[i]}, view.radius[i], ids);
+  };
+  const std::size_t step = std::max<std::size_t>(1, s.spheres.size() / 16);
+  for (std::size_t k = 0; k < s.spheres.size(); k += step) {
+    const auto i = static_cast<std::uint32_t>(k);
+    std::array<std::uint32_t, kRoom> ids;
+    const Vec3 c{view.cx[i], view.cy[i], view.cz[i]};
+    if (overlaps_of(i, ids) != scalar::overlapping(view, c, view.radius[i], {})) {
+      state.SkipWithError("disagrees with the scalar reference");
+      return;
+    }
+  }
+  std::atomic<std::size_t> pairs{0};
+  for (auto _ : state) {
+    pairs = 0;
+    parallel_chunks(threads, s.spheres.size(), [&](std::size_t begin, std::size_t end) {
+      std::array<std::uint32_t, kRoom> ids;
+      std::size_t found = 0;
+      for (std::size_t i = begin; i < end; ++i)
+        found += overlaps_of(static_cast<std::uint32_t>(i), ids) - 1;  // less itself
+      pairs += found;
+    });
+  }
+  const auto n = static_cast<std::int64_t>(s.spheres.size());
+  state.SetItemsProcessed(state.iterations() * n);
+  state.counters["spheres"] = static_cast<double>(n);
+  state.counters["pairs"] = static_cast<double>(pairs.load() / 2);
+  state.counters["pairs_per_second"] = benchmark::Counter(
+      static_cast<double>(pairs.load() / 2) * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate);
+}
+
 }  // namespace
 
 void register_query_benchmarks() {
@@ -228,6 +271,15 @@ void register_query_benchmarks() {
             ->UseRealTime();
       }
     }
+  }
+  for (const int threads : {1, all_threads()}) {
+    const std::string name =
+        "queries/random:1048576/broad_phase/tree/threads:" + std::to_string(threads);
+    benchmark::RegisterBenchmark(
+        name.c_str(), [=](benchmark::State& s) { broad_phase(s, "random:1048576", threads); })
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->Iterations(3);
   }
 }
 

@@ -38,14 +38,14 @@ py::tuple Scene::intersect_all(const py::handle& origins, const py::handle& dire
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
-    const SphereView view = spheres_.view();
     for_each_chunk(rays.size(), [&](std::size_t begin, std::size_t end) {
       std::vector<Hit> hits(max_hits);
       auto flags = std::make_unique<bool[]>(max_hits + 1);
       const std::span<bool> exit_span(flags.get(), max_hits);
       for (std::size_t i = begin; i < end; ++i) {
-        const std::size_t n = bvh_ ? sphray::intersect_all(*bvh_, rays[i], hits, exit_span)
-                                   : sphray::intersect_all(view, rays[i], hits, exit_span);
+        const std::size_t n = answer([&](const auto& spheres) {
+          return sphray::intersect_all(spheres, rays[i], hits, exit_span);
+        });
         count_out[i] = n;
         for (std::size_t k = 0; k < max_hits; ++k) {
           const bool used = k < n;
@@ -70,10 +70,11 @@ py::array Scene::count_hits(const py::handle& origins, const py::handle& directi
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
-    const SphereView view = spheres_.view();
     for_each_chunk(rays.size(), [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i)
-        out[i] = bvh_ ? sphray::count_hits(*bvh_, rays[i]) : sphray::count_hits(view, rays[i]);
+      answer([&](const auto& spheres) {
+        for (std::size_t i = begin; i < end; ++i)
+          out[i] = sphray::count_hits(spheres, rays[i]);
+      });
     });
   }
   return counts;
@@ -90,11 +91,10 @@ py::tuple Scene::nearest(const py::handle& points, float max_distance) const {
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
-    const SphereView view = spheres_.view();
     for_each_chunk(p.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i) {
-        const Nearest n = bvh_ ? sphray::nearest(*bvh_, p[i], max_distance)
-                               : sphray::nearest(view, p[i], max_distance);
+        const Nearest n = answer(
+            [&](const auto& spheres) { return sphray::nearest(spheres, p[i], max_distance); });
         id_out[i] = n.id;
         d_out[i] = n.distance;
         for (int k = 0; k < 3; ++k)
@@ -112,10 +112,11 @@ py::array Scene::inside(const py::handle& points) const {
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
-    const SphereView view = spheres_.view();
     for_each_chunk(p.size(), [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i)
-        out[i] = bvh_ ? sphray::inside(*bvh_, p[i]) : sphray::inside(view, p[i]);
+      answer([&](const auto& spheres) {
+        for (std::size_t i = begin; i < end; ++i)
+          out[i] = sphray::inside(spheres, p[i]);
+      });
     });
   }
   return inside;
@@ -132,10 +133,9 @@ py::array Scene::overlapping(const py::handle& centre, float radius) const {
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
-    const SphereView view = spheres_.view();
     auto query = [&](std::span<std::uint32_t> out) {
-      return bvh_ ? sphray::overlapping(*bvh_, at, radius, out)
-                  : sphray::overlapping(view, at, radius, out);
+      return answer(
+          [&](const auto& spheres) { return sphray::overlapping(spheres, at, radius, out); });
     };
     // Counted first, then listed: the answer's size is not known before.
     ids.resize(query({}));

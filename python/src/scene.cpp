@@ -60,11 +60,11 @@ py::array Scene::occluded(const py::handle& origins, const py::handle& direction
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
-    const SphereView view = spheres_.view();
     for_each_chunk(rays.size(), [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i) {
-        out[i] = bvh_ ? sphray::occluded(*bvh_, rays[i]) : sphray::occluded(view, rays[i]);
-      }
+      answer([&](const auto& spheres) {
+        for (std::size_t i = begin; i < end; ++i)
+          out[i] = sphray::occluded(spheres, rays[i]);
+      });
     });
   }
   return hit;
@@ -101,11 +101,7 @@ py::tuple Scene::surface(const py::handle& origins, const py::handle& directions
 }
 
 void Scene::trace(std::span<const Ray> rays, std::span<Hit> hits) const {
-  if (bvh_) {
-    sphray::intersect(*bvh_, rays, hits);
-  } else {
-    sphray::intersect(spheres_.view(), rays, hits);
-  }
+  answer([&](const auto& spheres) { sphray::intersect(spheres, rays, hits); });
 }
 
 void Scene::refit(const py::handle& centers, const py::handle& radii, const py::handle& masks) {

@@ -64,6 +64,11 @@ class Scene {
   const py::array& radii() const { return spheres_.radii(); }
 
  private:
+  // query(tree) when the scene has one, else query(view): the one place a method chooses.
+  template <class Query>
+  decltype(auto) answer(Query&& query) const {
+    return bvh_ ? query(*bvh_) : query(spheres_.view());
+  }
   // Shared by queries, exclusive for refit. Never waited on while holding the GIL.
   mutable std::shared_mutex mutex_;
   SphereArrays spheres_;

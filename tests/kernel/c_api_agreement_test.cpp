@@ -290,6 +290,90 @@ TEST_P(CApiAgreement, QueriesBeyondTheClosestHitMatchTheCppApi) {
   }
 }
 
+// Masks through the C API: sphere masks set through a stride (a caller's structure), one mask
+// per ray, against the C++ API given the same masks; then refit keeps them and NULL clears them.
+TEST_P(CApiAgreement, MaskedQueriesMatchTheCppApi) {
+  struct CallerMask {
+    std::uint32_t mask;
+    float weight;  // another field of the caller's structure, skipped by the stride
+  };
+  std::mt19937 rng(11);
+  std::vector<CallerMask> sphere_masks(caller_.size());
+  for (std::size_t i = 0; i < caller_.size(); ++i) {
+    sphere_masks[i] = {1u << (rng() % 3), 1.0f};
+    spheres_.set_mask(static_cast<std::uint32_t>(i), sphere_masks[i].mask);
+  }
+  if (bvh_) bvh_->refit(spheres_.view());
+  ASSERT_EQ(sphray_scene_set_masks(scene_, &sphere_masks[0].mask, sizeof(CallerMask)), SPHRAY_OK)
+      << sphray_last_error();
+  const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(100'000));
+  std::vector<std::uint32_t> ray_masks(n);
+  for (std::uint32_t& m : ray_masks)
+    m = rng() % 8;  // 0 (sees nothing) to every one of the three bits
+  auto cpp_ray = [&](std::size_t i) {
+    sphray::Ray ray = to_cpp(rays_[i]);
+    ray.mask = ray_masks[i];
+    return ray;
+  };
+  std::vector<sphray_hit> hits(n);
+  std::vector<unsigned char> occluded(n);
+  std::vector<size_t> counts(n), all_counts(n);
+  constexpr std::size_t kSlots = 2;
+  std::vector<sphray_hit> all(n * kSlots);
+  ASSERT_EQ(sphray_intersect_masked(scene_, rays_.data(), ray_masks.data(), hits.data(), n),
+            SPHRAY_OK);
+  ASSERT_EQ(sphray_occluded_masked(scene_, rays_.data(), ray_masks.data(), occluded.data(), n),
+            SPHRAY_OK);
+  ASSERT_EQ(sphray_count_hits_masked(scene_, rays_.data(), ray_masks.data(), counts.data(), n),
+            SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect_all_masked(scene_, rays_.data(), ray_masks.data(), n, kSlots,
+                                        all.data(), nullptr, all_counts.data()),
+            SPHRAY_OK);
+  std::size_t hidden = 0;  // rays whose closest hit the masks changed
+  for (std::size_t i = 0; i < n; ++i) {
+    const sphray::Ray ray = cpp_ray(i);
+    const sphray::Hit want =
+        bvh_ ? sphray::intersect(*bvh_, ray) : sphray::intersect(spheres_.view(), ray);
+    ASSERT_TRUE(hits[i].id == want.id && same_bits(hits[i].t, want.t)) << "ray " << i;
+    if (want.found()) {
+      ASSERT_TRUE(all[i * kSlots].id == want.id && same_bits(all[i * kSlots].t, want.t))
+          << "ray " << i;
+    }
+    const bool want_occluded =
+        bvh_ ? sphray::occluded(*bvh_, ray) : sphray::occluded(spheres_.view(), ray);
+    ASSERT_EQ(occluded[i], want_occluded ? 1 : 0) << "ray " << i;
+    const std::size_t want_count =
+        bvh_ ? sphray::count_hits(*bvh_, ray) : sphray::count_hits(spheres_.view(), ray);
+    ASSERT_EQ(counts[i], want_count) << "ray " << i;
+    ASSERT_EQ(all_counts[i], want_count) << "ray " << i;
+    if (want.id != cpp_intersect(rays_[i]).id) ++hidden;
+    if (ray_masks[i] == 0) {
+      ASSERT_EQ(hits[i].id, SPHRAY_NO_HIT) << "ray " << i;
+    }
+  }
+  EXPECT_GT(hidden, n / 20);  // the masks do hide spheres
+
+  // A refit keeps the masks: the same masked answers after moving nothing.
+  ASSERT_EQ(sphray_scene_refit(scene_, &caller_[0].x, &caller_[0].y, &caller_[0].z, &caller_[0].r,
+                               caller_.size(), sizeof(CallerSphere)),
+            SPHRAY_OK);
+  std::vector<sphray_hit> again(n);
+  ASSERT_EQ(sphray_intersect_masked(scene_, rays_.data(), ray_masks.data(), again.data(), n),
+            SPHRAY_OK);
+  for (std::size_t i = 0; i < n; ++i)
+    ASSERT_TRUE(again[i].id == hits[i].id && same_bits(again[i].t, hits[i].t)) << "ray " << i;
+
+  // NULL masks: every sphere seen again, by every ray but those of mask 0.
+  ASSERT_EQ(sphray_scene_set_masks(scene_, nullptr, 0), SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect_masked(scene_, rays_.data(), ray_masks.data(), again.data(), n),
+            SPHRAY_OK);
+  for (std::size_t i = 0; i < n; ++i) {
+    const sphray::Hit want =
+        ray_masks[i] == 0 ? sphray::Hit{rays_[i].tmax, SPHRAY_NO_HIT} : cpp_intersect(rays_[i]);
+    ASSERT_TRUE(again[i].id == want.id) << "ray " << i;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Accel, CApiAgreement,
                          ::testing::Values(SPHRAY_ACCEL_BRUTE, SPHRAY_ACCEL_BVH), accel_name);
 

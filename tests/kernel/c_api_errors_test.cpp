@@ -175,6 +175,22 @@ TEST_F(CApiErrors, QueriesBeyondTheClosestHitRefuseBadArguments) {
   EXPECT_EQ(counts[1], 0u);
   expect_failure(sphray_count_hits(scene, rays, nullptr, 2), SPHRAY_ERROR_NULL_POINTER,
                  "sphray_count_hits", "output array is NULL");
+  // The masked forms: the masks array is required, the rest checked as in the plain forms.
+  const std::uint32_t masks[2] = {1, 1};
+  expect_failure(sphray_intersect_masked(scene, rays, nullptr, hits, 2), SPHRAY_ERROR_NULL_POINTER,
+                 "sphray_intersect_masked", "masks is NULL");
+  expect_failure(sphray_occluded_masked(scene, rays, nullptr, occluded, 2),
+                 SPHRAY_ERROR_NULL_POINTER, "sphray_occluded_masked", "masks is NULL");
+  expect_failure(sphray_count_hits_masked(scene, rays, nullptr, counts, 2),
+                 SPHRAY_ERROR_NULL_POINTER, "sphray_count_hits_masked", "masks is NULL");
+  expect_failure(sphray_intersect_all_masked(scene, rays, nullptr, 2, 0, nullptr, nullptr, counts),
+                 SPHRAY_ERROR_NULL_POINTER, "sphray_intersect_all_masked", "masks is NULL");
+  expect_failure(sphray_count_hits_masked(scene, rays, masks, counts, 0),
+                 SPHRAY_ERROR_INVALID_ARGUMENT, "sphray_count_hits_masked", "count is 0");
+  expect_failure(sphray_scene_set_masks(scene, masks, 3), SPHRAY_ERROR_INVALID_ARGUMENT,
+                 "sphray_scene_set_masks", "stride_bytes");
+  expect_failure(sphray_scene_set_masks(nullptr, masks, 0), SPHRAY_ERROR_NULL_POINTER,
+                 "sphray_scene_set_masks", "scene is NULL");
   expect_failure(sphray_nearest(scene, nullptr, INFINITY, near, 2), SPHRAY_ERROR_NULL_POINTER,
                  "sphray_nearest", "is NULL");
   expect_failure(sphray_inside(scene, points, in, 0), SPHRAY_ERROR_INVALID_ARGUMENT,
@@ -216,6 +232,11 @@ TEST_F(CApiErrors, AReleasedSceneIsReportedEverywhere) {
   expect_failure(sphray_scene_refit(released, cx, cy, cz, r, 2, 0), gone, "sphray_scene_refit",
                  "released");
   expect_failure(sphray_scene_size(released, &size), gone, "sphray_scene_size", "released");
+  const std::uint32_t masks[2] = {1, 1};
+  expect_failure(sphray_scene_set_masks(released, masks, 0), gone, "sphray_scene_set_masks",
+                 "released");
+  expect_failure(sphray_intersect_masked(released, rays, masks, hits, 2), gone,
+                 "sphray_intersect_masked", "released");
   std::size_t counts[2];
   sphray_nearest_sphere near[2];
   const float points[6] = {0, 0, 0, 1, 1, 1};

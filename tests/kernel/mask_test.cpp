@@ -139,12 +139,22 @@ TEST(Masks, EveryKernelAndTreeMatchTheVisibleSpheresAlone) {
               "dispatched", nullptr, [&](const Ray& r) { return intersect(v, r); },
               [&](const Ray& r) { return occluded(v, r); },
               [&](const Ray& r) { return count_hits(v, r); });
+          // The same spheres read as a view without padding, its masks exactly n long: the
+          // kernels then load the last, partial batch of spheres and masks on their own.
+          const std::vector<std::uint32_t> exact_masks(masks.begin(), masks.begin() + n);
+          SphereView unpadded = v;
+          unpadded.padded_count = 0;
+          unpadded.mask = exact_masks.data();
           for (std::size_t k = 0; k < kernels.size(); ++k) {
             const EntryTable* e = kernels[k];
             check(
                 "kernel", e, [&](const Ray& r) { return e->intersect(v, r); },
                 [&](const Ray& r) { return e->occluded(v, r); },
                 [&](const Ray& r) { return e->intersect_all(v, r, nullptr, nullptr, 0); });
+            check(
+                "kernel, unpadded view", e, [&](const Ray& r) { return e->intersect(unpadded, r); },
+                [&](const Ray& r) { return e->occluded(unpadded, r); },
+                [&](const Ray& r) { return e->intersect_all(unpadded, r, nullptr, nullptr, 0); });
             check(
                 "tree", e, [&](const Ray& r) { return intersect(trees[k], r); },
                 [&](const Ray& r) { return occluded(trees[k], r); },

@@ -11,17 +11,8 @@
 #            -DEXTRA_FLAGS=<the build's compiler and linker flags>
 #            -DHEADER_DIR=<kernel/include/sphray> -DNEED_TOOLS=<ON if the command is built>
 cmake_policy(SET CMP0054 NEW)  # "quoted" strings in if() are strings
-file(REMOVE_RECURSE ${WORK_DIR})
-file(MAKE_DIRECTORY ${WORK_DIR})
-
-function(run)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
-  set(output "${out}" PARENT_SCOPE)
-  if(NOT rc EQUAL 0)
-    message("${out}")
-    message(FATAL_ERROR "failed (${rc}): ${ARGN}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/script_steps.cmake)
+fresh_work_dir()
 
 run(cpack -G DEB --config ${BINARY_DIR}/CPackConfig.cmake -B ${WORK_DIR})
 message("${output}")

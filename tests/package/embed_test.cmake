@@ -5,16 +5,8 @@
 #            -DGENERATOR=<generator> -DCXX_FLAGS=<the build's> -DLINKER_FLAGS=<the build's>
 # The build's own compiler and linker flags reach the example, so that in a sanitizer build it
 # links the sanitizer runtimes the installed library needs, however ctest was started.
-file(REMOVE_RECURSE ${WORK_DIR})
-file(MAKE_DIRECTORY ${WORK_DIR})
-
-function(run)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
-  message("${out}")
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGN}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/script_steps.cmake)
+fresh_work_dir()
 
 run(${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${WORK_DIR}/staging)
 file(RENAME ${WORK_DIR}/staging ${WORK_DIR}/moved)

@@ -4,16 +4,8 @@
 # Arguments: -DLANGUAGE=c|rust -DPREFIX=<installed sphray> -DLIBDIR=<lib> -DEXAMPLE_DIR=<docs/examples/...>
 #            -DWORK_DIR=<scratch> -DSPHRAY=<the sphray command> -DTOOL=<cc or cargo>
 #            -DEXTRA_FLAGS=<compiler and linker flags for C, e.g. the build's sanitizers>
-file(REMOVE_RECURSE ${WORK_DIR})
-file(MAKE_DIRECTORY ${WORK_DIR})
-
-function(run)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
-  message("${out}")
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGN}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/script_steps.cmake)
+fresh_work_dir()
 
 set(pc_path PKG_CONFIG_PATH=${PREFIX}/${LIBDIR}/pkgconfig)
 if(LANGUAGE STREQUAL "c")

@@ -106,6 +106,15 @@ SPHRAY_API int sphray_scene_refit(sphray_scene* scene, const float* cx, const fl
                                   const float* cz, const float* r, size_t count,
                                   size_t stride_bytes);
 
+/* Gives sphere i the 32-bit mask masks[i] (stride_bytes apart, 0 for packed), for every sphere
+ * of the scene; masks NULL gives every sphere every bit again. A ray sees sphere i only if its
+ * mask shares a bit with masks[i]: the calls without _masked use rays of every bit, the _masked
+ * calls take one mask per ray (docs/queries.md, "Masks"). A tree takes the new masks without a
+ * rebuild; sphray_scene_refit keeps them. Errors: invalid argument (stride not 0 and not a
+ * positive multiple of 4, masks not aligned for uint32_t), out of memory. */
+SPHRAY_API int sphray_scene_set_masks(sphray_scene* scene, const uint32_t* masks,
+                                      size_t stride_bytes);
+
 /* The scene's sphere count, in *count. */
 SPHRAY_API int sphray_scene_size(const sphray_scene* scene, size_t* count);
 
@@ -121,6 +130,12 @@ SPHRAY_API int sphray_intersect(const sphray_scene* scene, const sphray_ray* ray
 /* occluded[i] = 1 if rays[i] hits any sphere in (tmin, tmax), else 0. */
 SPHRAY_API int sphray_occluded(const sphray_scene* scene, const sphray_ray* rays,
                                unsigned char* occluded, size_t count);
+
+/* sphray_intersect and sphray_occluded for rays with masks: ray i has the mask masks[i]. */
+SPHRAY_API int sphray_intersect_masked(const sphray_scene* scene, const sphray_ray* rays,
+                                       const uint32_t* masks, sphray_hit* hits, size_t count);
+SPHRAY_API int sphray_occluded_masked(const sphray_scene* scene, const sphray_ray* rays,
+                                      const uint32_t* masks, unsigned char* occluded, size_t count);
 
 /* sphray_intersect and sphray_occluded on up to `threads` threads (0: one per core) for large
  * counts; the same results, in the same places, whatever the thread count. */
@@ -149,7 +164,9 @@ SPHRAY_API int sphray_spawn(const sphray_hit_surface* surfaces, const float* dir
  * (exits may be NULL), and their total in counts[i] (larger than max_hits when they did not
  * fit; slots past the total are left as they were). max_hits 0: counts only, hits may be NULL.
  * The first crossing is sphray_intersect's hit. Errors as sphray_intersect, and too large when
- * count * max_hits exceeds the address space. */
+ * count * max_hits exceeds the address space. Up to 64 hits per ray are gathered on the stack;
+ * a larger max_hits makes the call allocate one buffer of max_hits slots (out of memory is then
+ * a possible error). */
 SPHRAY_API int sphray_intersect_all(const sphray_scene* scene, const sphray_ray* rays, size_t count,
                                     size_t max_hits, sphray_hit* hits, unsigned char* exits,
                                     size_t* counts);
@@ -157,6 +174,13 @@ SPHRAY_API int sphray_intersect_all(const sphray_scene* scene, const sphray_ray*
 /* counts[i] = the number of crossings of rays[i] in (tmin, tmax). */
 SPHRAY_API int sphray_count_hits(const sphray_scene* scene, const sphray_ray* rays, size_t* counts,
                                  size_t count);
+
+/* sphray_intersect_all and sphray_count_hits for rays with masks: ray i has the mask masks[i]. */
+SPHRAY_API int sphray_intersect_all_masked(const sphray_scene* scene, const sphray_ray* rays,
+                                           const uint32_t* masks, size_t count, size_t max_hits,
+                                           sphray_hit* hits, unsigned char* exits, size_t* counts);
+SPHRAY_API int sphray_count_hits_masked(const sphray_scene* scene, const sphray_ray* rays,
+                                        const uint32_t* masks, size_t* counts, size_t count);
 
 /* The sphere nearest a point by signed distance to its surface, |p - c| - r (negative inside),
  * among those at most max_distance away (INFINITY: any); id SPHRAY_NO_HIT, distance

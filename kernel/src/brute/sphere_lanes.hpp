@@ -14,6 +14,7 @@
 #include "simd/fused.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/ordered.hpp"
+#include "simd/partial_load.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
 
@@ -82,18 +83,37 @@ struct SphereLanes {
             Floats::load_unaligned(v.cz + i), Floats::load_unaligned(v.radius + i)};
   }
 
-  // The last count % kWidth spheres of a view that promises no padding, copied into a batch
-  // padded with radius-0 spheres (never hit). Paid once per ray, not per batch.
+  // The last count % kWidth spheres of a view that promises no padding, in a batch padded with
+  // radius-0 spheres (never hit), reading nothing past the view: masked loads where the
+  // instruction set has them, else a copy (simd/partial_load.hpp). Once per ray, not per batch.
   SPHRAY_FORCE_INLINE static Spheres load_tail(const SphereView& v, std::size_t i) {
-    alignas(64) float x[kWidth] = {}, y[kWidth] = {}, z[kWidth] = {}, r[kWidth] = {};
-    for (std::size_t k = 0; i + k < v.count; ++k) {
-      x[k] = v.cx[i + k];
-      y[k] = v.cy[i + k];
-      z[k] = v.cz[i + k];
-      r[k] = v.radius[i + k];
+    using Partial = PartialLoad<A>;
+    const std::size_t n = v.count - i;
+    if constexpr (Partial::kMasked) {
+      return {Partial::load(v.cx + i, n), Partial::load(v.cy + i, n), Partial::load(v.cz + i, n),
+              Partial::load(v.radius + i, n)};
+    } else {
+      alignas(64) float x[kWidth] = {}, y[kWidth] = {}, z[kWidth] = {}, r[kWidth] = {};
+      for (std::size_t k = 0; k < n; ++k) {
+        x[k] = v.cx[i + k];
+        y[k] = v.cy[i + k];
+        z[k] = v.cz[i + k];
+        r[k] = v.radius[i + k];
+      }
+      return {Floats::load_aligned(x), Floats::load_aligned(y), Floats::load_aligned(z),
+              Floats::load_aligned(r)};
     }
-    return {Floats::load_aligned(x), Floats::load_aligned(y), Floats::load_aligned(z),
-            Floats::load_aligned(r)};
+  }
+  SPHRAY_FORCE_INLINE static Uints load_tail_masks(const SphereView& v, std::size_t i) {
+    const std::size_t n = v.count - i;
+    if constexpr (PartialLoad<A>::kMasked) {
+      return PartialLoad<A>::load(v.mask + i, n);
+    } else {
+      alignas(64) std::uint32_t m[kWidth] = {};
+      for (std::size_t k = 0; k < n; ++k)
+        m[k] = v.mask[i + k];
+      return Uints::load_aligned(m);
+    }
   }
 
   // The batch at index i of a view, its spheres the ray cannot see (their masks share no bit
@@ -111,12 +131,7 @@ struct SphereLanes {
   SPHRAY_FORCE_INLINE static Spheres load_tail_seen(const SphereView& v, std::size_t i,
                                                     const RaySetup& s) {
     Spheres sp = load_tail(v, i);
-    if constexpr (kMasked) {
-      alignas(64) std::uint32_t m[kWidth] = {};
-      for (std::size_t k = 0; i + k < v.count; ++k)
-        m[k] = v.mask[i + k];
-      hide_unseen(sp, Uints::load_aligned(m), s.mask);
-    }
+    if constexpr (kMasked) hide_unseen(sp, load_tail_masks(v, i), s.mask);
     return sp;
   }
   SPHRAY_FORCE_INLINE static void hide_unseen(Spheres& sp, const Uints& masks,

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "c_api/checks.hpp"
+#include "c_api/convert.hpp"
 #include "c_api/last_error.hpp"
 #include "c_api/scene_handle.hpp"
 
@@ -19,21 +20,12 @@ namespace {
 // heap, made once per call.
 constexpr std::size_t kStackSlots = 64;
 
-Ray to_ray(const sphray_ray& r) {
-  return {{r.ox, r.oy, r.oz}, {r.dx, r.dy, r.dz}, r.tmin, r.tmax};
-}
-
-Vec3 point_at(const float* points, std::size_t i) {
-  return {points[3 * i], points[3 * i + 1], points[3 * i + 2]};
-}
-
 // The crossings of one ray into its slots of hits and exits, through slots and flags (the C++
 // types: sphray_hit and unsigned char are other types); returns the total.
 std::size_t crossings(const Scene& scene, const Ray& ray, std::span<Hit> slots,
                       std::span<bool> flags, sphray_hit* hits, unsigned char* exits) {
-  const std::size_t total = scene.bvh
-                                ? sphray::intersect_all(*scene.bvh, ray, slots, flags)
-                                : sphray::intersect_all(scene.spheres.view(), ray, slots, flags);
+  const std::size_t total = scene.answer(
+      [&](const auto& spheres) { return sphray::intersect_all(spheres, ray, slots, flags); });
   for (std::size_t k = 0; k < std::min(slots.size(), total); ++k) {
     hits[k] = {slots[k].t, slots[k].id};
     if (exits != nullptr) exits[k] = flags[k] ? 1 : 0;
@@ -41,25 +33,18 @@ std::size_t crossings(const Scene& scene, const Ray& ray, std::span<Hit> slots,
   return total;
 }
 
-}  // namespace
-}  // namespace sphray::c_api
-
-using namespace sphray::c_api;
-
-extern "C" {
-
-int sphray_intersect_all(const sphray_scene* scene, const sphray_ray* rays, size_t count,
-                         size_t max_hits, sphray_hit* hits, unsigned char* exits, size_t* counts) {
-  constexpr const char* kFunction = "sphray_intersect_all";
-  if (int status = check_query(scene, rays, counts, count, kFunction); status != SPHRAY_OK)
+int intersect_all(const sphray_scene* scene, const sphray_ray* rays, const std::uint32_t* masks,
+                  size_t count, size_t max_hits, sphray_hit* hits, unsigned char* exits,
+                  size_t* counts, const char* function) {
+  if (int status = check_query(scene, rays, counts, count, function); status != SPHRAY_OK)
     return status;
   if (max_hits > 0) {
-    if (int status = check_pointer(hits, kFunction, "hits is NULL"); status != SPHRAY_OK)
+    if (int status = check_pointer(hits, function, "hits is NULL"); status != SPHRAY_OK)
       return status;
     if (max_hits > kMaxElements / count)
-      return fail(SPHRAY_ERROR_TOO_LARGE, kFunction, "count * max_hits exceeds the address space");
+      return fail(SPHRAY_ERROR_TOO_LARGE, function, "count * max_hits exceeds the address space");
   }
-  return guarded(kFunction, [&] {
+  return guarded(function, [&] {
     std::array<sphray::Hit, kStackSlots> stack_slots;
     std::array<bool, kStackSlots> stack_flags;
     std::vector<sphray::Hit> heap_slots;
@@ -73,7 +58,7 @@ int sphray_intersect_all(const sphray_scene* scene, const sphray_ray* rays, size
       flags = std::span<bool>(heap_flags.get(), max_hits);
     }
     for (std::size_t i = 0; i < count; ++i) {
-      counts[i] = crossings(*scene->scene, to_ray(rays[i]), slots, flags,
+      counts[i] = crossings(*scene->scene, to_ray(rays, masks, i), slots, flags,
                             hits == nullptr ? nullptr : hits + i * max_hits,
                             exits == nullptr ? nullptr : exits + i * max_hits);
     }
@@ -81,20 +66,52 @@ int sphray_intersect_all(const sphray_scene* scene, const sphray_ray* rays, size
   });
 }
 
-int sphray_count_hits(const sphray_scene* scene, const sphray_ray* rays, size_t* counts,
-                      size_t count) {
-  constexpr const char* kFunction = "sphray_count_hits";
-  if (int status = check_query(scene, rays, counts, count, kFunction); status != SPHRAY_OK)
+int count_hits(const sphray_scene* scene, const sphray_ray* rays, const std::uint32_t* masks,
+               size_t* counts, size_t count, const char* function) {
+  if (int status = check_query(scene, rays, counts, count, function); status != SPHRAY_OK)
     return status;
-  return guarded(kFunction, [&] {
-    const Scene& s = *scene->scene;
-    for (std::size_t i = 0; i < count; ++i) {
-      const sphray::Ray ray = to_ray(rays[i]);
-      counts[i] =
-          s.bvh ? sphray::count_hits(*s.bvh, ray) : sphray::count_hits(s.spheres.view(), ray);
-    }
+  return guarded(function, [&] {
+    scene->scene->answer([&](const auto& spheres) {
+      for (std::size_t i = 0; i < count; ++i)
+        counts[i] = sphray::count_hits(spheres, to_ray(rays, masks, i));
+    });
     return SPHRAY_OK;
   });
+}
+
+}  // namespace
+}  // namespace sphray::c_api
+
+using namespace sphray::c_api;
+
+extern "C" {
+
+int sphray_intersect_all(const sphray_scene* scene, const sphray_ray* rays, size_t count,
+                         size_t max_hits, sphray_hit* hits, unsigned char* exits, size_t* counts) {
+  return intersect_all(scene, rays, nullptr, count, max_hits, hits, exits, counts,
+                       "sphray_intersect_all");
+}
+
+int sphray_intersect_all_masked(const sphray_scene* scene, const sphray_ray* rays,
+                                const uint32_t* masks, size_t count, size_t max_hits,
+                                sphray_hit* hits, unsigned char* exits, size_t* counts) {
+  constexpr const char* kFunction = "sphray_intersect_all_masked";
+  if (int status = check_pointer(masks, kFunction, "masks is NULL"); status != SPHRAY_OK)
+    return status;
+  return intersect_all(scene, rays, masks, count, max_hits, hits, exits, counts, kFunction);
+}
+
+int sphray_count_hits(const sphray_scene* scene, const sphray_ray* rays, size_t* counts,
+                      size_t count) {
+  return count_hits(scene, rays, nullptr, counts, count, "sphray_count_hits");
+}
+
+int sphray_count_hits_masked(const sphray_scene* scene, const sphray_ray* rays,
+                             const uint32_t* masks, size_t* counts, size_t count) {
+  constexpr const char* kFunction = "sphray_count_hits_masked";
+  if (int status = check_pointer(masks, kFunction, "masks is NULL"); status != SPHRAY_OK)
+    return status;
+  return count_hits(scene, rays, masks, counts, count, kFunction);
 }
 
 int sphray_nearest(const sphray_scene* scene, const float* points, float max_distance,
@@ -103,13 +120,12 @@ int sphray_nearest(const sphray_scene* scene, const float* points, float max_dis
   if (int status = check_query(scene, points, out, count, kFunction); status != SPHRAY_OK)
     return status;
   return guarded(kFunction, [&] {
-    const Scene& s = *scene->scene;
-    for (std::size_t i = 0; i < count; ++i) {
-      const sphray::Vec3 p = point_at(points, i);
-      const sphray::Nearest n = s.bvh ? sphray::nearest(*s.bvh, p, max_distance)
-                                      : sphray::nearest(s.spheres.view(), p, max_distance);
-      out[i] = {n.id, n.distance, n.point.x, n.point.y, n.point.z};
-    }
+    scene->scene->answer([&](const auto& spheres) {
+      for (std::size_t i = 0; i < count; ++i) {
+        const sphray::Nearest n = sphray::nearest(spheres, point_at(points, i), max_distance);
+        out[i] = {n.id, n.distance, n.point.x, n.point.y, n.point.z};
+      }
+    });
     return SPHRAY_OK;
   });
 }
@@ -120,11 +136,10 @@ int sphray_inside(const sphray_scene* scene, const float* points, unsigned char*
   if (int status = check_query(scene, points, inside, count, kFunction); status != SPHRAY_OK)
     return status;
   return guarded(kFunction, [&] {
-    const Scene& s = *scene->scene;
-    for (std::size_t i = 0; i < count; ++i) {
-      const sphray::Vec3 p = point_at(points, i);
-      inside[i] = (s.bvh ? sphray::inside(*s.bvh, p) : sphray::inside(s.spheres.view(), p)) ? 1 : 0;
-    }
+    scene->scene->answer([&](const auto& spheres) {
+      for (std::size_t i = 0; i < count; ++i)
+        inside[i] = sphray::inside(spheres, point_at(points, i)) ? 1 : 0;
+    });
     return SPHRAY_OK;
   });
 }
@@ -140,11 +155,10 @@ int sphray_overlapping(const sphray_scene* scene, const float* centre, float rad
     status = fail(SPHRAY_ERROR_TOO_LARGE, kFunction, "capacity exceeds the address space");
   if (status != SPHRAY_OK) return status;
   return guarded(kFunction, [&] {
-    const Scene& s = *scene->scene;
     const sphray::Vec3 c{centre[0], centre[1], centre[2]};
     const std::span<std::uint32_t> out(ids, capacity);
-    *total = s.bvh ? sphray::overlapping(*s.bvh, c, radius, out)
-                   : sphray::overlapping(s.spheres.view(), c, radius, out);
+    *total = scene->scene->answer(
+        [&](const auto& spheres) { return sphray::overlapping(spheres, c, radius, out); });
     return SPHRAY_OK;
   });
 }

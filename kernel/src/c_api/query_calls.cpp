@@ -4,6 +4,7 @@
 #include <array>
 
 #include "c_api/checks.hpp"
+#include "c_api/convert.hpp"
 #include "c_api/last_error.hpp"
 #include "c_api/parallel_chunks.hpp"
 #include "c_api/scene_handle.hpp"
@@ -14,52 +15,30 @@ namespace {
 // Rays converted at a time, on the stack: a query allocates nothing.
 constexpr std::size_t kStreamChunk = 256;
 
-Ray to_ray(const sphray_ray& r) {
-  return {{r.ox, r.oy, r.oz}, {r.dx, r.dy, r.dz}, r.tmin, r.tmax};
-}
-
-sphray_ray to_c(const Ray& r) {
-  return {r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
-}
-
-sphray_hit_surface to_c(const Surface& s) {
-  return {s.point.x,  s.point.y, s.point.z, s.normal.x, s.normal.y,
-          s.normal.z, s.error.x, s.error.y, s.error.z,  s.front_face ? 1 : 0};
-}
-
-Surface from_c(const sphray_hit_surface& s) {
-  return {{s.px, s.py, s.pz}, {s.nx, s.ny, s.nz}, s.front_face != 0, {s.ex, s.ey, s.ez}};
-}
-
-// hits[i] for i in [begin, end) through the C++ stream call, a stack chunk at a time.
-void intersect_range(const Scene& scene, const sphray_ray* rays, sphray_hit* hits,
-                     std::size_t begin, std::size_t end) {
+// hits[i] for i in [begin, end) through the C++ stream call, a stack chunk at a time. masks:
+// null, or one per ray.
+void intersect_range(const Scene& scene, const sphray_ray* rays, const std::uint32_t* masks,
+                     sphray_hit* hits, std::size_t begin, std::size_t end) {
   std::array<Ray, kStreamChunk> in;
   std::array<Hit, kStreamChunk> out;
   for (std::size_t start = begin; start < end; start += kStreamChunk) {
     const std::size_t n = std::min(kStreamChunk, end - start);
     for (std::size_t i = 0; i < n; ++i)
-      in[i] = to_ray(rays[start + i]);
+      in[i] = to_ray(rays, masks, start + i);
     const std::span<const Ray> batch(in.data(), n);
     const std::span<Hit> results(out.data(), n);
-    if (scene.bvh) {
-      sphray::intersect(*scene.bvh, batch, results);
-    } else {
-      sphray::intersect(scene.spheres.view(), batch, results);
-    }
+    scene.answer([&](const auto& spheres) { sphray::intersect(spheres, batch, results); });
     for (std::size_t i = 0; i < n; ++i)
       hits[start + i] = {out[i].t, out[i].id};
   }
 }
 
-void occluded_range(const Scene& scene, const sphray_ray* rays, unsigned char* occluded,
-                    std::size_t begin, std::size_t end) {
-  const SphereView view = scene.spheres.view();
-  for (std::size_t i = begin; i < end; ++i) {
-    const Ray ray = to_ray(rays[i]);
-    const bool any = scene.bvh ? sphray::occluded(*scene.bvh, ray) : sphray::occluded(view, ray);
-    occluded[i] = any ? 1 : 0;
-  }
+void occluded_range(const Scene& scene, const sphray_ray* rays, const std::uint32_t* masks,
+                    unsigned char* occluded, std::size_t begin, std::size_t end) {
+  scene.answer([&](const auto& spheres) {
+    for (std::size_t i = begin; i < end; ++i)
+      occluded[i] = sphray::occluded(spheres, to_ray(rays, masks, i)) ? 1 : 0;
+  });
 }
 
 }  // namespace
@@ -75,7 +54,7 @@ int sphray_intersect(const sphray_scene* scene, const sphray_ray* rays, sphray_h
   if (int status = check_query(scene, rays, hits, count, kFunction); status != SPHRAY_OK)
     return status;
   return guarded(kFunction, [&] {
-    intersect_range(*scene->scene, rays, hits, 0, count);
+    intersect_range(*scene->scene, rays, nullptr, hits, 0, count);
     return SPHRAY_OK;
   });
 }
@@ -86,7 +65,33 @@ int sphray_occluded(const sphray_scene* scene, const sphray_ray* rays, unsigned 
   if (int status = check_query(scene, rays, occluded, count, kFunction); status != SPHRAY_OK)
     return status;
   return guarded(kFunction, [&] {
-    occluded_range(*scene->scene, rays, occluded, 0, count);
+    occluded_range(*scene->scene, rays, nullptr, occluded, 0, count);
+    return SPHRAY_OK;
+  });
+}
+
+int sphray_intersect_masked(const sphray_scene* scene, const sphray_ray* rays,
+                            const uint32_t* masks, sphray_hit* hits, size_t count) {
+  constexpr const char* kFunction = "sphray_intersect_masked";
+  if (int status = check_query(scene, rays, hits, count, kFunction); status != SPHRAY_OK)
+    return status;
+  if (int status = check_pointer(masks, kFunction, "masks is NULL"); status != SPHRAY_OK)
+    return status;
+  return guarded(kFunction, [&] {
+    intersect_range(*scene->scene, rays, masks, hits, 0, count);
+    return SPHRAY_OK;
+  });
+}
+
+int sphray_occluded_masked(const sphray_scene* scene, const sphray_ray* rays, const uint32_t* masks,
+                           unsigned char* occluded, size_t count) {
+  constexpr const char* kFunction = "sphray_occluded_masked";
+  if (int status = check_query(scene, rays, occluded, count, kFunction); status != SPHRAY_OK)
+    return status;
+  if (int status = check_pointer(masks, kFunction, "masks is NULL"); status != SPHRAY_OK)
+    return status;
+  return guarded(kFunction, [&] {
+    occluded_range(*scene->scene, rays, masks, occluded, 0, count);
     return SPHRAY_OK;
   });
 }
@@ -99,7 +104,7 @@ int sphray_intersect_parallel(const sphray_scene* scene, const sphray_ray* rays,
   return guarded(kFunction, [&] {
     const Scene& s = *scene->scene;
     parallel_chunks(count, threads, [&](std::size_t begin, std::size_t end) {
-      intersect_range(s, rays, hits, begin, end);
+      intersect_range(s, rays, nullptr, hits, begin, end);
     });
     return SPHRAY_OK;
   });
@@ -113,7 +118,7 @@ int sphray_occluded_parallel(const sphray_scene* scene, const sphray_ray* rays,
   return guarded(kFunction, [&] {
     const Scene& s = *scene->scene;
     parallel_chunks(count, threads, [&](std::size_t begin, std::size_t end) {
-      occluded_range(s, rays, occluded, begin, end);
+      occluded_range(s, rays, nullptr, occluded, begin, end);
     });
     return SPHRAY_OK;
   });

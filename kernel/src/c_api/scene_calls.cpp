@@ -1,4 +1,6 @@
 // sphray_scene_create, sphray_scene_refit, sphray_scene_size, sphray_scene_release.
+#include <cstdint>
+#include <cstring>
 #include <memory>
 
 #include "c_api/checks.hpp"
@@ -15,6 +17,32 @@ constexpr std::size_t kBvhFromSpheres = 128;
 
 bool wants_bvh(int accel, std::size_t count) {
   return accel == SPHRAY_ACCEL_BVH || (accel == SPHRAY_ACCEL_AUTO && count >= kBvhFromSpheres);
+}
+
+// Sphere i's mask from an array of stride_bytes steps (0: packed); memcpy reads it whatever the
+// caller's structure type.
+std::uint32_t mask_at(const std::uint32_t* masks, std::size_t stride_bytes, std::size_t i) {
+  const std::size_t step = stride_bytes == 0 ? sizeof(std::uint32_t) : stride_bytes;
+  std::uint32_t mask;
+  std::memcpy(&mask, reinterpret_cast<const char*>(masks) + i * step, sizeof mask);
+  return mask;
+}
+
+// spheres with the masks of `from` (same count); spheres without a mask array stay without one,
+// so scenes that never had masks keep the unmasked queries.
+void copy_masks(const sphray::SphereSoA& from, sphray::SphereSoA& spheres) {
+  for (std::uint32_t id = 0; id < from.size(); ++id) {
+    if (from.mask(id) != sphray::kAllBits) spheres.set_mask(id, from.mask(id));
+  }
+}
+
+// The same spheres without masks: a view of them takes the unmasked path again.
+sphray::SphereSoA unmasked(const sphray::SphereSoA& from) {
+  sphray::SphereSoA spheres;
+  spheres.reserve(from.size());
+  for (std::uint32_t id = 0; id < from.size(); ++id)
+    spheres.add(from.center(id), from.radius(id));
+  return spheres;
 }
 
 }  // namespace
@@ -53,6 +81,28 @@ int sphray_scene_refit(sphray_scene* handle, const float* cx, const float* cy, c
   return guarded(kFunction, [&] {
     // The copy is made first: if it cannot be, the scene is left as it was.
     sphray::SphereSoA spheres = copy(arrays);
+    copy_masks(scene.spheres, spheres);
+    if (scene.bvh) scene.bvh->refit(spheres.view());
+    scene.spheres = std::move(spheres);
+    return SPHRAY_OK;
+  });
+}
+
+int sphray_scene_set_masks(sphray_scene* handle, const uint32_t* masks, size_t stride_bytes) {
+  constexpr const char* kFunction = "sphray_scene_set_masks";
+  if (int status = check_scene(handle, kFunction); status != SPHRAY_OK) return status;
+  if (stride_bytes % sizeof(std::uint32_t) != 0)
+    return fail(SPHRAY_ERROR_INVALID_ARGUMENT, kFunction, "stride_bytes is not a multiple of 4");
+  if (reinterpret_cast<std::uintptr_t>(masks) % alignof(std::uint32_t) != 0)
+    return fail(SPHRAY_ERROR_INVALID_ARGUMENT, kFunction, "masks is not aligned for uint32_t");
+  Scene& scene = *handle->scene;
+  return guarded(kFunction, [&] {
+    // The new spheres are made first: if they cannot be, the scene is left as it was.
+    sphray::SphereSoA spheres = unmasked(scene.spheres);
+    if (masks != nullptr) {
+      for (std::uint32_t id = 0; id < spheres.size(); ++id)
+        spheres.set_mask(id, mask_at(masks, stride_bytes, id));
+    }
     if (scene.bvh) scene.bvh->refit(spheres.view());
     scene.spheres = std::move(spheres);
     return SPHRAY_OK;

@@ -18,6 +18,12 @@ namespace sphray::c_api {
 struct Scene {
   SphereSoA spheres;
   std::optional<SphereBVH> bvh;
+
+  /// query(tree) when the scene has one, else query(view): the one place a C call chooses.
+  template <class Query>
+  decltype(auto) answer(Query&& query) const {
+    return bvh ? query(*bvh) : query(spheres.view());
+  }
 };
 
 }  // namespace sphray::c_api

@@ -1,7 +1,7 @@
 // The point queries, written once over an xsimd architecture A: the sphere nearest a point
 // (by signed distance to its surface) and the spheres a query ball overlaps, over a view a
-// batch at a time, or through a tree by distance: children nearest first, and a child skipped
-// once its box's lower bound (box_distance.hpp) is beyond what is still wanted.
+// batch at a time, or through a tree by distance (bvh/distance_walk.hpp): children nearest
+// first, and a child skipped once its box's lower bound is beyond what is still wanted.
 #pragma once
 
 #include <cstddef>
@@ -11,9 +11,8 @@
 
 #include "brute/brute_force.hpp"
 #include "brute/sphere_lanes.hpp"
-#include "bvh/box_test.hpp"
 #include "bvh/bvh_data.hpp"
-#include "point/box_distance.hpp"
+#include "bvh/distance_walk.hpp"
 #include "point/id_collector.hpp"
 #include "point/point_lanes.hpp"
 #include "simd/isa_namespace.hpp"
@@ -30,7 +29,7 @@ struct PointQueries {
   using Spheres = typename Lanes::Spheres;
   using Sphere = SphereLanes<A>;
   using Brute = BruteForce<A>;
-  using Box = BoxTest<A>;
+  using Walk = DistanceWalk<A>;
   static constexpr std::size_t kWidth = Lanes::kWidth;
 
   static bool finite(Vec3 p) {
@@ -91,7 +90,7 @@ struct PointQueries {
     const Point p = Lanes::setup(point);
     // What a child's bound must not exceed: the best so far, and never beyond the maximum.
     auto bound = [&] { return best.t < max_distance ? best.t : max_distance; };
-    walk(bvh, p, bound, [&](std::size_t first) {
+    Walk::visit(bvh, p.x, p.y, p.z, bound, [&](std::size_t first) {
       Mask valid;
       const Floats d = Lanes::signed_distance(p, Sphere::load(bvh.spheres, first), valid);
       const Mask live = valid & (d <= Floats(best.t));
@@ -116,8 +115,8 @@ struct PointQueries {
     if (!finite(centre) || !(radius >= 0.0f)) return 0;
     const Point p = Lanes::setup(centre);
     const Floats limit(radius);
-    walk(
-        bvh, p, [&] { return radius; },
+    Walk::visit(
+        bvh, p.x, p.y, p.z, [&] { return radius; },
         [&](std::size_t first) {
           Mask valid;
           const Floats d = Lanes::signed_distance(p, Sphere::load(bvh.spheres, first), valid);
@@ -138,39 +137,6 @@ struct PointQueries {
       if (bvh.ids[first + other] < bvh.ids[first + lane]) lane = other;
     }
     return lane;
-  }
-
-  // Visits the leaves whose children's lower bounds are at most bound(), nearest first; leaf
-  // returns whether to stop. bound() may shrink as leaves are visited (nearest).
-  template <class Bound, class Leaf>
-  static void walk(const BvhData& bvh, const Point& p, Bound&& bound, Leaf&& leaf) {
-    if (bvh.node_count == 0) return;
-    if (bvh.count <= kWidth) {  // one leaf at slot 0, as the ray walk reads it
-      leaf(0);
-      return;
-    }
-    typename Box::StackEntry stack[Box::kStackSize];
-    std::size_t top = 0;
-    ChildRef ref = ChildRef::node(0);
-    for (;;) {
-      if (ref.is_leaf()) {
-        if (leaf(ref.first(kWidth))) return;
-      } else {
-        const typename Box::Node node(bvh.nodes, ref.node_index(), kWidth);
-        const Floats lower = BoxDistance<A>::lower_bound(node, p.x, p.y, p.z);
-        const unsigned bits = LaneReduce<A>::bits(lower <= Floats(bound()));
-        if (bits != 0) {
-          ref = Box::enter(node, bits, lower, stack, top);
-          continue;
-        }
-      }
-      // The next entry still worth a visit: the bound may have shrunk since it was pushed.
-      do {
-        if (top == 0) return;
-        --top;
-      } while (stack[top].tnear > bound());
-      ref = stack[top].ref;
-    }
   }
 };
 

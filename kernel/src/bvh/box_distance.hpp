@@ -1,7 +1,7 @@
 // How far a point may be from the spheres under a node's children, written once over an xsimd
-// architecture A: per child, a lower bound on the signed distance that point_lanes.hpp computes
-// for any sphere in its box, so that a walk by distance can skip the box and still return what
-// brute force returns, bit for bit.
+// architecture A: per child, a lower bound on the signed distance that point/point_lanes.hpp
+// computes for any sphere in its box, so that the walk by distance (distance_walk.hpp) can skip
+// the box and still return what brute force returns, bit for bit.
 #pragma once
 
 #include <cstddef>
