@@ -928,6 +928,23 @@ def update_open3d_section(docs, data):
     print(f"updated the Open3D section of {page_path} and {images}/perf-python-open3d.png")
 
 
+# Sections measured with another command (`sphray bench`), each stating its command: a
+# regenerated page carries them over from the page it replaces, verbatim.
+KEPT_HEADINGS = ["## Small trees", "## `sphray bench` on rtiow-final"]
+
+
+def kept_sections(page_path):
+    page = page_path.read_text() if page_path.exists() else ""
+    kept = []
+    for heading in KEPT_HEADINGS:
+        start = page.find("\n" + heading + "\n")
+        if start < 0:
+            continue
+        nxt = page.find("\n## ", start + 1 + len(heading))
+        kept.append(page[start + 1:nxt if nxt >= 0 else len(page)].strip("\n"))
+    return "\n\n".join(kept)
+
+
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("json", type=Path, nargs="?",
@@ -970,6 +987,7 @@ def main(argv):
         queries_section(res),
         build_table(res),
         open3d_section(open3d, "images/perf-python-open3d.png"),
+        kept_sections(args.docs / "performance.md"),
         cycles_section(res),
         failures_section(res),
     ]

@@ -1,6 +1,6 @@
-// The sphray command: render, scenes, info. A thin shell over sphray::render; every failure is
-// one line on stderr and an exit status: 2 for bad usage or input (refused before any work),
-// 1 for a failure during the run (I/O, memory). No exception leaves main.
+// The sphray command: render, bench, scenes, info. A thin shell over sphray::render; every failure
+// is one line on stderr and an exit status: 2 for bad usage or input (refused before any work), 1
+// for a failure during the run (I/O, memory). No exception leaves main.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -18,6 +18,7 @@
 #include <string>
 #include <thread>
 
+#include "bench_command.hpp"
 #include "sphray/render/image_file.hpp"
 #include "sphray/render/memory_check.hpp"
 #include "sphray/render/renderer.hpp"
@@ -267,6 +268,7 @@ int run_info() {
     supported += (supported.empty() ? "" : ", ") + std::string(sphray::isa_name(isa));
   }
   std::printf("supported here: %s (choose with SPHRAY_ISA)\n", supported.c_str());
+  std::printf("trees: %s\n", std::string(sphray::isa_name(sphray::bvh_isa())).c_str());
   return 0;
 }
 
@@ -322,6 +324,23 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_flag("--force,-f", args.force, "Replace the output even if it is read-only");
 }
 
+void add_bench_options(CLI::App& bench, sphray::render::bench::BenchArgs& args) {
+  bench.add_option("--scene,-s", args.scene, "A preset (see `sphray scenes`) or a .json file")
+      ->capture_default_str();
+  bench
+      .add_option("--rays", args.rays, "Camera rays (coherent), random rays (incoherent), or both")
+      ->check(CLI::IsMember(std::vector<std::string>{"camera", "random", "both"}))
+      ->capture_default_str();
+  bench.add_option("--threads,-j", args.threads, "Threads each row traces on")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
+  bench.add_option("--seconds", args.seconds, "Seconds of passes over the rays per row")
+      ->check(seconds_validator())
+      ->capture_default_str();
+  bench.add_option("--json", args.json, "Also write the results as Google Benchmark JSON");
+  bench.add_flag("--quiet,-q", args.quiet, "No progress line on stderr");
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"sphray: render spheres with the sphray kernel", "sphray"};
   app.set_version_flag("--version", std::string(sphray::kVersion));
@@ -329,6 +348,13 @@ int run(int argc, char** argv) {
   RenderArgs args;
   CLI::App* render = app.add_subcommand("render", "Render a scene to a PNG or PPM image");
   add_render_options(*render, args);
+  sphray::render::bench::BenchArgs bench_args;
+  CLI::App* bench = app.add_subcommand(
+      "bench",
+      "Rays per second of each instruction set's brute force, tree and stream (and "
+      "Embree's, where built with it) on a scene, each checked against the scalar "
+      "reference first");
+  add_bench_options(*bench, bench_args);
   CLI::App* scenes = app.add_subcommand("scenes", "List the preset scenes");
   CLI::App* info = app.add_subcommand("info", "Print the version and the instruction set in use");
   try {
@@ -343,6 +369,10 @@ int run(int argc, char** argv) {
   if (*scenes) return run_scenes();
   if (*info) return run_info();
   if (*render) return run_render(args);
+  if (*bench) {
+    bench_args.threads = std::min(bench_args.threads, worker_threads(bench_args.threads));
+    return sphray::render::bench::run_bench(bench_args);
+  }
   std::cout << app.help();
   return kExitUsage;
 }

@@ -13,6 +13,9 @@
 //   or path depth above 16x16 pixels, 2 samples and 8 rays is lowered to that before the real
 //   render() runs.
 //   Invalid values pass through untouched, so the refusals are the real ones.
+// - `sphray bench` is wrapped the same way, and its wrapper measures nothing: the fuzzer covers
+//   the command's parsing and refusals of bench's options, not timed runs of seconds each
+//   (tests/render/bench_cli_test.cpp runs them).
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -53,6 +56,15 @@ Image bounded_render(const Scene& scene, const RenderOptions& options, const Pro
   return real_render(scene, small, progress, stats);
 }
 }  // namespace sphray::render
+
+namespace sphray::render::bench {
+struct BenchArgs;
+int bounded_run_bench(const BenchArgs&) asm(
+    "__wrap__ZN6sphray6render5bench9run_benchERKNS1_9BenchArgsE");
+int bounded_run_bench(const BenchArgs&) {
+  return 0;
+}
+}  // namespace sphray::render::bench
 
 namespace {
 

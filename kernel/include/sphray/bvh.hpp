@@ -11,7 +11,7 @@
 //   bvh.refit(spheres.view());
 //
 // A node holds as many children as one SIMD batch has lanes, and a leaf as many spheres: the
-// tree is laid out for one instruction set, active_isa() unless another is given, and queried
+// tree is laid out for one instruction set, bvh_isa() unless another is given, and queried
 // with that set's kernel. Queries are const and thread-safe; build and refit are not queries.
 #pragma once
 

@@ -112,6 +112,12 @@ void write_spheres(BvhArrays& out, const Prims& prims, const std::vector<LeafPla
   });
 }
 
+// The most spheres a flat tree holds: kBvhBruteForceLeaves full leaves, as many as the root
+// has children.
+std::size_t flat_up_to(std::size_t width) {
+  return width * std::min(width, kBvhBruteForceLeaves);
+}
+
 BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min) {
   BvhArrays out;
   out.width = width;
@@ -121,12 +127,16 @@ BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min) 
   Builder builder(prims, width, parallel_min);
   // The root is always a node, even over a single leaf, so traversal starts the same way.
   Builder::Node root;
-  const Cluster all = builder.cluster(0, v.count);
-  if (v.count <= width) {
-    root.children.resize(1);
-    root.children[0].cluster = all;
+  if (v.count <= flat_up_to(width)) {
+    // Few enough spheres that the tree is read as brute force (bvh_data.hpp,
+    // kBvhBruteForceLeaves): full leaves in id order under the root, the batches brute force
+    // reads, rather than the builder's leaves, whose padding would add batches.
+    out.flat = true;
+    root.children.resize((v.count + width - 1) / width);
+    for (std::size_t k = 0; k < root.children.size(); ++k)
+      root.children[k].cluster = builder.cluster(k * width, std::min(v.count, (k + 1) * width));
   } else {
-    root = std::move(*builder.build(all, 0));
+    root = std::move(*builder.build(builder.cluster(0, v.count), 0));
   }
   allocate_nodes(out, root.subtree_nodes);
   Flattener flat(out);
@@ -149,6 +159,7 @@ BvhData BvhArrays::data() const {
     d.spheres = {x, x + slots, x + 2 * slots, x + 3 * slots, slots, slots, masks.get()};
   }
   d.ids = ids.get();
+  d.flat = flat;
   d.count = source_count;
   d.memory_bytes = memory_bytes();
   d.leaf_overlap = leaf_overlap;

@@ -31,6 +31,7 @@ struct BvhArrays {
   /// Per slot, the mask of its sphere (0 for the padding); null when the view had no masks.
   AlignedArray<std::uint32_t> masks;
   std::size_t slots = 0;
+  bool flat = false;             // see BvhData::flat
   std::size_t source_count = 0;  // the view's count
   /// The sum of the leaf boxes' volumes over the root box's: how many leaf boxes a point of
   /// the root box lies in, on average. 0 when that is unknown (no leaves, or unbounded boxes).

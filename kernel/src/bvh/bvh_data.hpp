@@ -24,6 +24,9 @@ struct BvhData {
   /// tree was built from (kNoHit for padding).
   SphereView spheres{nullptr, nullptr, nullptr, nullptr, 0, 0};
   const std::uint32_t* ids = nullptr;
+  /// Built flat: slot i holds sphere i, in full leaves under the root, so that brute force on
+  /// spheres (its count set to count) is the tree's answer (kBvhBruteForceLeaves).
+  bool flat = false;
   /// The number of spheres the tree was built over.
   std::size_t count = 0;
   /// Bytes the nodes, spheres and ids take (SphereBVH::memory_bytes()).
@@ -35,6 +38,9 @@ struct BvhData {
 
 /// Trees whose leaf_overlap reaches this take the branch-free leaf test (bvh/leaf_test.hpp).
 inline constexpr float kBvhBranchFreeOverlap = 1.5f;
+/// A tree of at most this many leaves (of full width) is built flat and answers by brute force
+/// (QueryPlan::brute_force_tree).
+inline constexpr std::size_t kBvhBruteForceLeaves = 8;
 /// Floats per child in a node: six box planes and the reference.
 inline constexpr std::size_t kBvhNodeRows = 7;
 /// A child reference with this bit set is a leaf: bits 0-30 hold its first slot, a multiple

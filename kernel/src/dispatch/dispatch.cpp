@@ -9,6 +9,7 @@
 #include "dispatch/cpu.hpp"
 #include "dispatch/entry_table.hpp"
 #include "dispatch/query_plan.hpp"
+#include "dispatch/tree_isa_rule.hpp"
 #include "sphray/isa.hpp"
 
 namespace sphray {
@@ -74,16 +75,23 @@ const Supported& supported() {
   return s;
 }
 
-// The active kernel, and for views too small to fill its batches, a narrower one.
+// The active kernel, and for views too small to fill its batches, a narrower one; and the
+// kernel of trees built without an instruction set: SPHRAY_ISA's when it is honoured, otherwise
+// the rule by CPU (tree_isa_rule.hpp).
 struct Choice {
   static constexpr std::size_t kSmall = 32;  // views below this many spheres may go narrower
   const EntryTable* active = nullptr;
+  const EntryTable* tree = nullptr;
   std::array<const EntryTable*, kSmall> by_count{};
 
   Choice() {
-    const IsaChoice choice = choose_isa(std::getenv("SPHRAY_ISA"));
+    const char* requested = std::getenv("SPHRAY_ISA");
+    const IsaChoice choice = choose_isa(requested);
     if (!choice.message.empty()) std::fprintf(stderr, "%s\n", choice.message.c_str());
     active = find_entries(choice.isa);
+    const bool honoured = requested != nullptr && *requested != '\0' && choice.message.empty();
+    tree = honoured ? active
+                    : find_entries(detail::tree_isa_for(detail::identify_cpu(), supported_isas()));
     for (std::size_t n = 0; n < kSmall; ++n)
       by_count[n] = narrowest_fit(n);
   }
@@ -170,6 +178,10 @@ IsaChoice choose_isa(const char* requested) {
 
 Isa active_isa() {
   return choice().active->isa;
+}
+
+Isa bvh_isa() {
+  return choice().tree->isa;
 }
 namespace detail {
 

@@ -38,17 +38,32 @@ struct EntryPoints {
   }
 
   // A tree over so few spheres takes the scalar path too, so that it returns exactly what the
-  // brute-force entries above return on the same spheres.
+  // brute-force entries above return on the same spheres. A small tree, built flat, is brute
+  // force on its own spheres (QueryPlan::brute_force_tree): slot i holds sphere i.
   using Tree = BvhTraversal<A>;
+  static SphereView flat_spheres(const BvhData& bvh) {
+    SphereView v = bvh.spheres;  // padded to its slots, which are whole batches
+    v.count = bvh.count;
+    return v;
+  }
   static Hit bvh_intersect(const BvhData& bvh, const Ray& ray) {
-    return QueryPlan::scalar(bvh.count) ? scalar_bvh_intersect(bvh, ray)
-                                        : Tree::intersect(bvh, ray);
+    if (QueryPlan::scalar(bvh.count)) return scalar_bvh_intersect(bvh, ray);
+    if (QueryPlan::brute_force_tree(bvh)) return Brute::intersect(flat_spheres(bvh), ray);
+    return Tree::intersect(bvh, ray);
   }
   static bool bvh_occluded(const BvhData& bvh, const Ray& ray) {
-    return QueryPlan::scalar(bvh.count) ? scalar_bvh_occluded(bvh, ray) : Tree::occluded(bvh, ray);
+    if (QueryPlan::scalar(bvh.count)) return scalar_bvh_occluded(bvh, ray);
+    if (QueryPlan::brute_force_tree(bvh)) return Brute::occluded(flat_spheres(bvh), ray);
+    return Tree::occluded(bvh, ray);
   }
   static void bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
     if (QueryPlan::scalar(bvh.count)) return scalar_bvh_intersect_stream(bvh, rays, hits, n);
+    if (QueryPlan::brute_force_tree(bvh)) {
+      const SphereView v = flat_spheres(bvh);
+      for (std::size_t i = 0; i < n; ++i)
+        hits[i] = Brute::intersect(v, rays[i]);
+      return;
+    }
     TreeStream<A>::intersect_stream(bvh, rays, hits, n);
   }
 

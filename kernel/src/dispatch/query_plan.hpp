@@ -6,6 +6,7 @@
 //   sphray::intersect(tree, ray)      1. scalar walk or SIMD walk
 //                                     2. the leaf test: branching or branch-free
 //                                     3. the box test: rays ahead of their origin, or any ray
+//                                     5. the walk, or brute force (small trees)
 //   sphray::intersect(tree, rays, ..) 4. one ray at a time, or several walks in turns
 //
 // Measured in docs/performance.md and docs/bvh.md; docs/architecture.md follows a ray through.
@@ -78,6 +79,15 @@ struct QueryPlan {
     }
     return 2 * close < pairs;
   }
+
+  // 5. A tree of at most kBvhBruteForceLeaves full leaves is built flat, its spheres in id order
+  // (build.cpp), and answers as brute force on them (dispatch/entry_points.hpp): below that, a
+  // scattered ray pays more for the walk's box tests, stack and mispredicted branches than for
+  // the batches they skip, and the tree reads the very batches brute force reads, so it is
+  // never slower than brute force on its own spheres. Measured with `sphray bench` on random
+  // scenes, incoherent rays (docs/performance.md, "Small trees"): the walk overtakes between 8
+  // and 10 leaves on both widths (about 128 spheres for the 16-wide tree, 80 for the 8-wide).
+  static bool brute_force_tree(const BvhData& bvh) { return bvh.flat; }
 };
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

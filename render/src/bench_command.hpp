@@ -1,0 +1,23 @@
+// `sphray bench`: rays per second of every way sphray (and Embree, where the build has it)
+// answers a scene's rays, each row checked against the scalar reference before it is timed.
+#pragma once
+
+#include <string>
+
+namespace sphray::render::bench {
+
+struct BenchArgs {
+  std::string scene = "rtiow-final";
+  std::string rays = "both";  // camera, random or both
+  int threads = 1;
+  double seconds = 0.5;  // per row
+  std::string json;      // Google Benchmark-style output file, or empty
+  bool quiet = false;    // no progress on stderr
+};
+
+/// Runs the rows and prints them on stdout, one per line as each finishes. Returns the exit
+/// status: 0, 2 for a scene that cannot be loaded (the message says where in the file), 1 for a
+/// row that disagrees with the scalar reference or a JSON file that cannot be written.
+int run_bench(const BenchArgs& args);
+
+}  // namespace sphray::render::bench

@@ -1,0 +1,100 @@
+#include "bench_rows.hpp"
+
+#include <memory>
+
+#include "dispatch/entry_table.hpp"  // each instruction set's brute force (sphray_kernel_internals)
+
+namespace sphray::render::bench {
+namespace {
+
+using detail::EntryTable;
+
+Row scalar_brute_force() {
+  auto prepare = [](SphereView spheres) -> Trace {
+    return [spheres](std::span<const Ray> rays, std::span<Hit> hits) {
+      for (std::size_t i = 0; i < rays.size(); ++i)
+        hits[i] = scalar::intersect(spheres, rays[i]);
+    };
+  };
+  return {"scalar brute force", true, true, false, prepare};
+}
+
+// The public brute force goes through a view-size rule to a narrower kernel for tiny views; a
+// row per instruction set shows each kernel itself.
+Row brute_force(const EntryTable& kernel, bool dispatched) {
+  auto prepare = [&kernel](SphereView spheres) -> Trace {
+    return [&kernel, spheres](std::span<const Ray> rays, std::span<Hit> hits) {
+      for (std::size_t i = 0; i < rays.size(); ++i)
+        hits[i] = kernel.intersect(spheres, rays[i]);
+    };
+  };
+  return {std::string(isa_name(kernel.isa)) + " brute force", true, true, dispatched, prepare};
+}
+
+// The tree and stream rows of an instruction set share one build: the tree row builds it, the
+// stream row takes it over, so that no more than one tree of a large scene is alive at a time.
+struct TreeCache {
+  Isa isa;
+  std::shared_ptr<const SphereBVH> tree;
+
+  std::shared_ptr<const SphereBVH> get(SphereView spheres) {
+    if (!tree) tree = std::make_shared<const SphereBVH>(spheres, isa);
+    return tree;
+  }
+  std::shared_ptr<const SphereBVH> take(SphereView spheres) {
+    std::shared_ptr<const SphereBVH> t = get(spheres);
+    tree.reset();
+    return t;
+  }
+};
+
+Row tree_per_ray(const std::shared_ptr<TreeCache>& cache) {
+  auto prepare = [cache](SphereView spheres) -> Trace {
+    return [tree = cache->get(spheres)](std::span<const Ray> rays, std::span<Hit> hits) {
+      for (std::size_t i = 0; i < rays.size(); ++i)
+        hits[i] = intersect(*tree, rays[i]);
+    };
+  };
+  return {std::string(isa_name(cache->isa)) + " tree", false, true, cache->isa == bvh_isa(),
+          prepare};
+}
+
+Row tree_stream(const std::shared_ptr<TreeCache>& cache) {
+  auto prepare = [cache](SphereView spheres) -> Trace {
+    return [tree = cache->take(spheres)](std::span<const Ray> rays, std::span<Hit> hits) {
+      intersect(*tree, rays, hits);
+    };
+  };
+  return {std::string(isa_name(cache->isa)) + " stream", false, true, cache->isa == bvh_isa(),
+          prepare};
+}
+
+}  // namespace
+
+std::string supported_isa_list() {
+  std::string list;
+  for (Isa isa : supported_isas()) {
+    if (!list.empty()) list += ' ';
+    list += isa_name(isa);
+  }
+  return list;
+}
+
+std::vector<Row> sphray_rows(std::size_t sphere_count) {
+  std::vector<Row> rows;
+  if (sphere_count <= kBruteForceUpTo) {
+    const Isa brute_isa = detail::entries_for_size(sphere_count).isa;
+    rows.push_back(scalar_brute_force());
+    for (Isa isa : supported_isas())
+      if (isa != Isa::scalar)
+        rows.push_back(brute_force(*detail::find_entries(isa), isa == brute_isa));
+  }
+  for (Isa isa : supported_isas()) {
+    auto cache = std::make_shared<TreeCache>(TreeCache{isa, nullptr});
+    rows.push_back(tree_per_ray(cache));
+    if (isa != Isa::scalar) rows.push_back(tree_stream(cache));
+  }
+  return rows;
+}
+
+}  // namespace sphray::render::bench

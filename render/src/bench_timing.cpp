@@ -1,0 +1,85 @@
+#include "bench_timing.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <sstream>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+namespace sphray::render::bench {
+namespace {
+
+bool agrees(const Hit& expected, const Hit& got, bool exact) {
+  if (exact) return expected.id == got.id && (expected.t == got.t || !expected.found());
+  if (!expected.found() || !got.found()) return expected.found() == got.found();
+  return std::abs(expected.t - got.t) <= 1e-3f * std::max(1.0f, std::abs(expected.t));
+}
+
+std::string describe(const Ray& ray, const Hit& expected, const Hit& got) {
+  auto id = [](const Hit& h) { return h.found() ? std::to_string(h.id) : std::string("none"); };
+  std::ostringstream out;
+  out << "ray from (" << ray.origin.x << ", " << ray.origin.y << ", " << ray.origin.z
+      << ") towards (" << ray.dir.x << ", " << ray.dir.y << ", " << ray.dir.z
+      << "): the scalar reference hits " << id(expected) << " at t " << expected.t << ", got "
+      << id(got) << " at t " << got.t;
+  return out.str();
+}
+
+std::string first_mismatch(const Row& row, const Trace& trace, const RaySet& set) {
+  std::vector<Hit> got(set.sample.size());
+  trace(set.sample, got);
+  for (std::size_t i = 0; i < got.size(); ++i)
+    if (!agrees(set.expected[i], got[i], row.exact))
+      return describe(set.sample[i], set.expected[i], got[i]);
+  return {};
+}
+
+double cpu_now() {
+  return static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
+}
+
+}  // namespace
+
+Timing time_row(const Row& row, const Trace& trace, const RaySet& set, int threads,
+                double seconds) {
+  Timing timing;
+  timing.mismatch = first_mismatch(row, trace, set);
+  if (!timing.mismatch.empty()) return timing;
+  const std::vector<Ray>& rays = row.brute_force ? set.brute_rays : set.rays;
+  std::vector<Hit> hits(rays.size());
+  const std::span<const Ray> all_rays(rays);
+  const std::span<Hit> all_hits(hits);
+  // About 16 chunks per thread keeps every thread busy to the end when rays differ in cost.
+  const std::size_t grain =
+      std::clamp<std::size_t>(rays.size() / (16 * static_cast<std::size_t>(threads)), 64, 4096);
+  tbb::task_arena arena(threads);
+  auto pass = [&] {
+    if (threads == 1) return trace(all_rays, all_hits);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), grain),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          trace(all_rays.subspan(r.begin(), r.size()),
+                                all_hits.subspan(r.begin(), r.size()));
+                        });
+    });
+  };
+  pass();  // warm-up: caches, page faults, the arena's threads
+  using Clock = std::chrono::steady_clock;
+  const double cpu_start = cpu_now();
+  const Clock::time_point start = Clock::now();
+  do {
+    pass();
+    ++timing.passes;
+    timing.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  } while (timing.seconds < seconds);
+  timing.cpu_seconds = cpu_now() - cpu_start;
+  timing.rays_per_pass = rays.size();
+  return timing;
+}
+
+}  // namespace sphray::render::bench
