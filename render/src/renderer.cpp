@@ -64,7 +64,28 @@ class Shader {
     depth_scale_ = length(scene.camera.lookfrom - scene.camera.lookat);
   }
 
-  Vec3 shade(const Ray& ray, const Hit& hit, std::uint64_t& shadow_rays) const {
+  // Whether shading needs a shadow ray per hit (shaded mode): render_tile then traces them
+  // all as one stream before shading.
+  bool casts_shadows() const { return mode_ == Mode::shaded; }
+
+  // Shaded mode: the cosine of the sun on the surface the ray hit, and if positive the shadow
+  // ray that decides whether the sun reaches it (else 0 and no ray).
+  float sun_cosine(const Ray& ray, const Hit& hit, Ray& shadow) const {
+    if (!hit.found()) return 0.0f;
+    Surface s = queries_.surface(ray, hit);
+    Vec3 normal = s.front_face ? s.normal : -s.normal;
+    float cosine = dot(normal, kLight);
+    if (cosine <= 0.0f) return 0.0f;
+    // Start the shadow ray a little off the surface, relative to the point's magnitude, so
+    // rounding cannot put it back inside the sphere it leaves.
+    Vec3 p = s.point;
+    float scale = std::max({1.0f, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    shadow = Ray{p + (1e-4f * scale) * normal, kLight};
+    return cosine;
+  }
+
+  // light: in shaded mode, the sun's cosine where its shadow ray was not blocked, else 0.
+  Vec3 shade(const Ray& ray, const Hit& hit, float light) const {
     if (!hit.found()) return mode_ == Mode::depth || mode_ == Mode::id ? Vec3{0, 0, 0} : sky(ray);
     switch (mode_) {
       case Mode::normals:
@@ -78,7 +99,7 @@ class Shader {
       case Mode::id:
         return id_color(hit.id);
       case Mode::shaded:
-        return diffuse(ray, hit, shadow_rays);
+        return (kAmbient + (1.0f - kAmbient) * light) * scene_.colors[hit.id];
       case Mode::path:
         break;  // render_path
     }
@@ -89,24 +110,6 @@ class Shader {
   float encode(float c) const { return mode_ == Mode::shaded ? std::sqrt(std::max(c, 0.0f)) : c; }
 
  private:
-  Vec3 diffuse(const Ray& ray, const Hit& hit, std::uint64_t& shadow_rays) const {
-    Surface s = queries_.surface(ray, hit);
-    Vec3 normal = s.front_face ? s.normal : -s.normal;
-    Vec3 albedo = scene_.colors[hit.id];
-    float cosine = dot(normal, kLight);
-    float light = 0.0f;
-    if (cosine > 0.0f) {
-      // Start the shadow ray a little off the surface, relative to the point's magnitude, so
-      // rounding cannot put it back inside the sphere it leaves.
-      Vec3 p = s.point;
-      float scale = std::max({1.0f, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-      Ray shadow{p + (1e-4f * scale) * normal, kLight};
-      ++shadow_rays;
-      if (!queries_.occluded(shadow)) light = cosine;
-    }
-    return (kAmbient + (1.0f - kAmbient) * light) * albedo;
-  }
-
   const Scene& scene_;
   const SceneQueries& queries_;
   Mode mode_;
@@ -125,12 +128,18 @@ TileRect tile_rect(std::size_t tile, int image_width, int image_height) {
 }
 
 // Renders one tile into image: per sample, the tile's camera rays go to the kernel as one
-// stream, then each hit is shaded and summed. Fixed-size buffers on the stack: no allocation.
+// stream, in shaded mode then the shadow rays of their hits as another (both coherent: the
+// kernel takes them in packets), then each hit is shaded and summed. Fixed-size buffers on the
+// stack: no allocation.
 std::uint64_t render_tile(const TileRect& r, const Camera& camera, const SceneQueries& queries,
                           const Shader& shader, const RenderOptions& options, Image& image) {
   std::array<Ray, kTilePixels> rays;
   std::array<Hit, kTilePixels> hits;
   std::array<Vec3, kTilePixels> sum{};
+  std::array<float, kTilePixels> light{};
+  std::array<Ray, kTilePixels> shadows;
+  std::array<bool, kTilePixels> blocked;
+  std::array<std::uint16_t, kTilePixels> shadow_pixel;
   std::size_t n = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
   std::uint64_t shadow_rays = 0;
   for (int s = 0; s < options.spp; ++s) {
@@ -144,8 +153,19 @@ std::uint64_t render_tile(const TileRect& r, const Camera& camera, const SceneQu
       rays[i] = camera.ray(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
     }
     queries.intersect(std::span(rays.data(), n), std::span(hits.data(), n));
+    if (shader.casts_shadows()) {
+      std::size_t m = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        light[i] = shader.sun_cosine(rays[i], hits[i], shadows[m]);
+        if (light[i] > 0.0f) shadow_pixel[m++] = static_cast<std::uint16_t>(i);
+      }
+      queries.occluded(std::span(shadows.data(), m), std::span(blocked.data(), m));
+      for (std::size_t k = 0; k < m; ++k)
+        if (blocked[k]) light[shadow_pixel[k]] = 0.0f;
+      shadow_rays += m;
+    }
     for (std::size_t i = 0; i < n; ++i)
-      sum[i] += shader.shade(rays[i], hits[i], shadow_rays);
+      sum[i] += shader.shade(rays[i], hits[i], light[i]);
   }
   float inverse_spp = 1.0f / static_cast<float>(options.spp);
   for (std::size_t i = 0; i < n; ++i) {

@@ -34,8 +34,13 @@ class SceneQueries {
       sphray::intersect(view_, rays, hits);
     }
   }
-  bool occluded(const Ray& ray) const {
-    return bvh_ ? sphray::occluded(*bvh_, ray) : sphray::occluded(view_, ray);
+  void occluded(std::span<const Ray> rays, std::span<bool> blocked) const {
+    if (bvh_) {
+      sphray::occluded(*bvh_, rays, blocked);
+    } else {
+      for (std::size_t i = 0; i < rays.size(); ++i)
+        blocked[i] = sphray::occluded(view_, rays[i]);
+    }
   }
   Surface surface(const Ray& ray, const Hit& hit) const { return sphray::surface(view_, ray, hit); }
 

@@ -51,6 +51,11 @@ struct EntryPoints {
     if (QueryPlan::scalar(bvh.count)) return scalar_bvh_intersect_stream(bvh, rays, hits, n);
     TreeStream<A>::intersect_stream(bvh, rays, hits, n);
   }
+  static void bvh_occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked,
+                                  std::size_t n) {
+    if (QueryPlan::scalar(bvh.count)) return scalar_bvh_occluded_stream(bvh, rays, blocked, n);
+    TreeStream<A>::occluded_stream(bvh, rays, blocked, n);
+  }
 
   // Every crossing: the SIMD path whatever the size, since it returns the scalar reference's
   // bits (the same roots) and a handful of spheres costs it no more than the scalar loop.
@@ -91,6 +96,7 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::bvh_intersect,
           &E::bvh_occluded,
           &E::bvh_intersect_stream,
+          &E::bvh_occluded_stream,
           &E::intersect_all,
           &E::bvh_intersect_all,
           &E::nearest,

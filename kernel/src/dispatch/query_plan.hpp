@@ -7,6 +7,7 @@
 //                                     2. the leaf test: branching or branch-free
 //                                     3. the box test: rays ahead of their origin, or any ray
 //   sphray::intersect(tree, rays, ..) 4. one ray at a time, or several walks in turns
+//   sphray::occluded(tree, rays, ..)  5. coherent groups of rays as packets (both streams)
 //
 // Measured in docs/performance.md and docs/bvh.md; docs/architecture.md follows a ray through.
 #pragma once
@@ -77,6 +78,29 @@ struct QueryPlan {
       close += ab > 0.0f && 4.0f * ab * ab > aa * bb;  // cosine > 1/2, without sqrt or divide
     }
     return 2 * close < pairs;
+  }
+
+  // 5. A packet of coherent rays tests a node's children once for all its rays, as an interval
+  // ray (bvh/packet.hpp): where the rays run nearly parallel and start close together, that
+  // interval is hardly wider than one ray and a node costs the packet what it costs one ray;
+  // where they diverge, it enters nearly every box and the rays' own leaf-box tests do the
+  // work with no culling above them. The stream takes consecutive rays kPacketRays at a time,
+  // those of one octant (one near plane per axis for all) with finite inverse directions
+  // (ahead), and walks them as a packet if at least kPacketMinRays qualify, their unit
+  // directions span at most kPacketCone per component and their origins at most
+  // kPacketOrigins of the tree's extent; the others one at a time (docs/bvh.md, "Packets").
+  static constexpr std::size_t kPacketRays = 32;
+  static constexpr std::size_t kPacketMinRays = 8;
+  static constexpr float kPacketCone = 0.25f;
+  static constexpr float kPacketOrigins = 1.0f / 16.0f;
+  static bool packets(const BvhData& bvh) {
+    return bvh.node_count != 0 &&
+           bvh.count > bvh.width;  // a tree of one leaf has no nodes to share
+  }
+  static bool coherent(std::size_t rays, float direction_span, float origin_span,
+                       float tree_extent) {
+    return rays >= kPacketMinRays && direction_span <= kPacketCone &&
+           origin_span <= kPacketOrigins * tree_extent;
   }
 };
 
