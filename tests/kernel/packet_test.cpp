@@ -182,24 +182,20 @@ TEST(Packets, DenseSceneFromInside) {
 }
 
 // The camera rays above go through the tree as packets: most groups of kPacketRays
-// consecutive rays are coherent by the plan's measure, taken here on the rays themselves.
+// consecutive rays are coherent by the plan's measure, and scattered rays are not.
 TEST(Packets, CameraRowsAreCoherentForThePlan) {
   using Plan = detail::baseline::QueryPlan;
+  std::mt19937 rng(21);
   const auto camera = camera_rays({1.0f, 4.0f, -40.0f}, {0, 0, 0}, 83, 61, 0.0f);
-  std::size_t groups = 0, coherent = 0;
+  const auto scattered = scattered_rays(camera.size(), rng);
+  std::size_t groups = 0, coherent = 0, scattered_coherent = 0;
   for (std::size_t begin = 0; begin + Plan::kPacketRays <= camera.size();
        begin += Plan::kPacketRays, ++groups) {
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (std::size_t i = begin; i < begin + Plan::kPacketRays; ++i) {
-      const Vec3 u = normalize(camera[i].dir);
-      const float c[3] = {u.x, u.y, u.z};
-      for (int a = 0; a < 3; ++a)
-        lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
-    }
-    const float span = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-    coherent += Plan::coherent(Plan::kPacketRays, span, 0.0f, 20.0f);
+    coherent += Plan::coherent(&camera[begin], Plan::kPacketRays, 20.0f);
+    scattered_coherent += Plan::coherent(&scattered[begin], Plan::kPacketRays, 20.0f);
   }
   EXPECT_GT(coherent, groups / 2) << coherent << " of " << groups;
+  EXPECT_EQ(scattered_coherent, 0u);
 }
 
 TEST(Packets, OccludedStreamChecksItsSize) {

@@ -42,43 +42,24 @@ struct PacketStream {
     return extent;
   }
 
-  // The box of the packet's origins and of its rays' unit directions, as the plan judges them.
-  struct Spread {
-    float lo[6] = {__builtin_inff(), __builtin_inff(), __builtin_inff(),
-                   __builtin_inff(), __builtin_inff(), __builtin_inff()};
-    float hi[6] = {-__builtin_inff(), -__builtin_inff(), -__builtin_inff(),
-                   -__builtin_inff(), -__builtin_inff(), -__builtin_inff()};
-
-    void add(const Ray& ray, float a) {
-      const float inv_length = 1.0f / __builtin_sqrtf(a);
-      const float v[6] = {ray.origin.x,           ray.origin.y,           ray.origin.z,
-                          ray.dir.x * inv_length, ray.dir.y * inv_length, ray.dir.z * inv_length};
-      for (int k = 0; k < 6; ++k) {
-        lo[k] = v[k] < lo[k] ? v[k] : lo[k];
-        hi[k] = v[k] > hi[k] ? v[k] : hi[k];
-      }
-    }
-    float span(int from) const {
-      float s = 0.0f;
-      for (int k = from; k < from + 3; ++k)
-        s = hi[k] - lo[k] > s ? hi[k] - lo[k] : s;
-      return s;
-    }
-  };
-
   static unsigned octant(const Ray& ray) {
     return (__builtin_signbit(ray.dir.x) ? 1u : 0u) | (__builtin_signbit(ray.dir.y) ? 2u : 0u) |
            (__builtin_signbit(ray.dir.z) ? 4u : 0u);
   }
 
-  // Gathers rays[0, n) (n <= kRays) into p: those that may join a packet, their positions in
-  // index. single(i) answers each of the others: rays the contract says miss, rays not ahead,
-  // and rays of another octant than the first. Returns whether the plan takes the packet.
+  // Whether rays[0, n) (n <= kRays) go as a packet, and if so gathers into p those that may
+  // join it, their positions in index. single(i) answers each of the others: rays the
+  // contract says miss, rays not ahead, rays of another octant than the first, or all of them
+  // if the plan finds the group incoherent or too few remain.
   template <class Single>
   static bool gather(const Ray* rays, std::size_t n, float extent, typename Packet::Rays& p,
                      std::uint16_t* index, Single&& single) {
     p.count = 0;
-    Spread spread;
+    if (!Plan::coherent(rays, n, extent)) {
+      for (std::size_t i = 0; i < n; ++i)
+        single(i);
+      return false;
+    }
     unsigned first_octant = 8;
     for (std::size_t i = 0; i < n; ++i) {
       const Ray& ray = rays[i];
@@ -95,9 +76,8 @@ struct PacketStream {
       }
       index[p.count] = static_cast<std::uint16_t>(i);
       Packet::add(p, ray, s, ray.tmax);
-      spread.add(ray, s.a.get(0));
     }
-    if (Plan::coherent(p.count, spread.span(3), spread.span(0), extent)) {
+    if (p.count >= Plan::kPacketMinRays) {
       Packet::pad(p);
       return true;
     }

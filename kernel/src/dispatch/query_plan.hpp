@@ -84,23 +84,40 @@ struct QueryPlan {
   // ray (bvh/packet.hpp): where the rays run nearly parallel and start close together, that
   // interval is hardly wider than one ray and a node costs the packet what it costs one ray;
   // where they diverge, it enters nearly every box and the rays' own leaf-box tests do the
-  // work with no culling above them. The stream takes consecutive rays kPacketRays at a time,
-  // those of one octant (one near plane per axis for all) with finite inverse directions
-  // (ahead), and walks them as a packet if at least kPacketMinRays qualify, their unit
-  // directions span at most kPacketCone per component and their origins at most
-  // kPacketOrigins of the tree's extent; the others one at a time (docs/bvh.md, "Packets").
+  // work with no culling above them. The stream judges consecutive rays kPacketRays at a time,
+  // before any setup, so that a group that fails costs a few multiplications per ray: a packet
+  // if at least three quarters of them (and kPacketMinRays) point within kPacketCosine of the
+  // group's first ray and their origins span at most kPacketOrigins of the tree's extent.
+  // Those of one octant (one near plane per axis) that are ahead then form the packet, the
+  // others go one at a time (docs/bvh.md, "Packets").
   static constexpr std::size_t kPacketRays = 32;
   static constexpr std::size_t kPacketMinRays = 8;
-  static constexpr float kPacketCone = 0.25f;
+  static constexpr float kPacketCosine = 0.97f;  // about 14 degrees
   static constexpr float kPacketOrigins = 1.0f / 16.0f;
   static bool packets(const BvhData& bvh) {
-    return bvh.node_count != 0 &&
-           bvh.count > bvh.width;  // a tree of one leaf has no nodes to share
+    return bvh.node_count != 0 && bvh.count > bvh.width;  // one leaf: no nodes to share
   }
-  static bool coherent(std::size_t rays, float direction_span, float origin_span,
-                       float tree_extent) {
-    return rays >= kPacketMinRays && direction_span <= kPacketCone &&
-           origin_span <= kPacketOrigins * tree_extent;
+  static bool coherent(const Ray* rays, std::size_t n, float tree_extent) {
+    const Vec3& f = rays[0].dir;
+    const float ff = f.x * f.x + f.y * f.y + f.z * f.z;
+    std::size_t close = 0;
+    float lo[3] = {rays[0].origin.x, rays[0].origin.y, rays[0].origin.z};
+    float hi[3] = {lo[0], lo[1], lo[2]};
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 &d = rays[i].dir, &o = rays[i].origin;
+      const float fd = f.x * d.x + f.y * d.y + f.z * d.z, dd = d.x * d.x + d.y * d.y + d.z * d.z;
+      // The cosine over kPacketCosine without sqrt or divide; NaN compares false.
+      close += fd > 0.0f && fd * fd > kPacketCosine * kPacketCosine * ff * dd;
+      const float v[3] = {o.x, o.y, o.z};
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = v[a] < lo[a] ? v[a] : lo[a];
+        hi[a] = v[a] > hi[a] ? v[a] : hi[a];
+      }
+    }
+    float span = 0.0f;
+    for (int a = 0; a < 3; ++a)
+      span = hi[a] - lo[a] > span ? hi[a] - lo[a] : span;
+    return close >= kPacketMinRays && 4 * close >= 3 * n && span <= kPacketOrigins * tree_extent;
   }
 };
 
