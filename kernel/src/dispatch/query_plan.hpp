@@ -93,31 +93,31 @@ struct QueryPlan {
   static constexpr std::size_t kPacketRays = 32;
   static constexpr std::size_t kPacketMinRays = 8;
   static constexpr float kPacketCosine = 0.97f;  // about 14 degrees
-  static constexpr float kPacketOrigins = 1.0f / 16.0f;
+  static constexpr float kPacketOrigins = 1.0f / 64.0f;
   static bool packets(const BvhData& bvh) {
     return bvh.node_count != 0 && bvh.count > bvh.width;  // one leaf: no nodes to share
   }
+  // Stops at the first ray that decides against a packet: on the groups that fail (shadow
+  // rays from scattered hit points, mostly) within a few rays.
   static bool coherent(const Ray* rays, std::size_t n, float tree_extent) {
+    if (n < kPacketMinRays) return false;
     const Vec3& f = rays[0].dir;
     const float ff = f.x * f.x + f.y * f.y + f.z * f.z;
-    std::size_t close = 0;
-    float lo[3] = {rays[0].origin.x, rays[0].origin.y, rays[0].origin.z};
-    float hi[3] = {lo[0], lo[1], lo[2]};
+    const float limit = kPacketOrigins * tree_extent;
+    const std::size_t far_allowed = n / 4;
+    std::size_t far = 0;
+    Vec3 lo = rays[0].origin, hi = lo;
     for (std::size_t i = 0; i < n; ++i) {
       const Vec3 &d = rays[i].dir, &o = rays[i].origin;
       const float fd = f.x * d.x + f.y * d.y + f.z * d.z, dd = d.x * d.x + d.y * d.y + d.z * d.z;
       // The cosine over kPacketCosine without sqrt or divide; NaN compares false.
-      close += fd > 0.0f && fd * fd > kPacketCosine * kPacketCosine * ff * dd;
-      const float v[3] = {o.x, o.y, o.z};
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = v[a] < lo[a] ? v[a] : lo[a];
-        hi[a] = v[a] > hi[a] ? v[a] : hi[a];
-      }
+      const bool close = fd > 0.0f && fd * fd > kPacketCosine * kPacketCosine * ff * dd;
+      if (!close && ++far > far_allowed) return false;
+      lo = {o.x < lo.x ? o.x : lo.x, o.y < lo.y ? o.y : lo.y, o.z < lo.z ? o.z : lo.z};
+      hi = {o.x > hi.x ? o.x : hi.x, o.y > hi.y ? o.y : hi.y, o.z > hi.z ? o.z : hi.z};
+      if (hi.x - lo.x > limit || hi.y - lo.y > limit || hi.z - lo.z > limit) return false;
     }
-    float span = 0.0f;
-    for (int a = 0; a < 3; ++a)
-      span = hi[a] - lo[a] > span ? hi[a] - lo[a] : span;
-    return close >= kPacketMinRays && 4 * close >= 3 * n && span <= kPacketOrigins * tree_extent;
+    return true;
   }
 };
 
