@@ -2,7 +2,9 @@
 // (x, y, z, r) per sphere, primID = sphray's sphere id.
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -106,30 +108,37 @@ void intersect1(RTCScene scene, std::span<const Ray> rays, std::span<Hit> hits) 
   }
 }
 
-// Packets of 8 consecutive rays: neighbouring pixels for camera rays.
-void intersect8(RTCScene scene, std::span<const Ray> rays, std::span<Hit> hits) {
+// Fills lane k of an Embree ray packet (RTCRay8, RTCRay16) from ray.
+template <class Packet>
+void set_lane(Packet& packet, std::size_t k, const Ray& ray) {
+  packet.org_x[k] = ray.origin.x;
+  packet.org_y[k] = ray.origin.y;
+  packet.org_z[k] = ray.origin.z;
+  packet.dir_x[k] = ray.dir.x;
+  packet.dir_y[k] = ray.dir.y;
+  packet.dir_z[k] = ray.dir.z;
+  packet.tnear[k] = ray.tmin;
+  packet.tfar[k] = ray.tmax;
+  packet.mask[k] = ~0u;
+}
+
+// Packets of kLanes consecutive rays (8 or 16): neighbouring pixels for camera rays.
+template <std::size_t kLanes, class Packet,
+          void (*kIntersect)(const int*, RTCScene, RTCIntersectContext*, Packet*)>
+void intersect_packets(RTCScene scene, std::span<const Ray> rays, std::span<Hit> hits) {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  for (std::size_t first = 0; first < rays.size(); first += 8) {
-    RTCRayHit8 packet{};
-    alignas(32) int valid[8] = {};
-    const std::size_t n = std::min<std::size_t>(8, rays.size() - first);
+  for (std::size_t first = 0; first < rays.size(); first += kLanes) {
+    Packet packet{};
+    alignas(64) int valid[kLanes] = {};
+    const std::size_t n = std::min<std::size_t>(kLanes, rays.size() - first);
     for (std::size_t k = 0; k < n; ++k) {
-      const RTCRayHit rh = to_embree(rays[first + k]);
       valid[k] = -1;
-      packet.ray.org_x[k] = rh.ray.org_x;
-      packet.ray.org_y[k] = rh.ray.org_y;
-      packet.ray.org_z[k] = rh.ray.org_z;
-      packet.ray.dir_x[k] = rh.ray.dir_x;
-      packet.ray.dir_y[k] = rh.ray.dir_y;
-      packet.ray.dir_z[k] = rh.ray.dir_z;
-      packet.ray.tnear[k] = rh.ray.tnear;
-      packet.ray.tfar[k] = rh.ray.tfar;
-      packet.ray.mask[k] = rh.ray.mask;
+      set_lane(packet.ray, k, rays[first + k]);
       packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
       packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
-    rtcIntersect8(valid, scene, &context, &packet);
+    kIntersect(valid, scene, &context, &packet);
     for (std::size_t k = 0; k < n; ++k) {
       const Ray& ray = rays[first + k];
       hits[first + k] = packet.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
@@ -139,7 +148,37 @@ void intersect8(RTCScene scene, std::span<const Ray> rays, std::span<Hit> hits) 
   }
 }
 
+void occluded1(RTCScene scene, std::span<const Ray> rays, bool* blocked) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    RTCRay ray = to_embree(rays[i]).ray;
+    rtcOccluded1(scene, &context, &ray);
+    blocked[i] = ray.tfar == -INFINITY;  // Embree marks an occluded ray so
+  }
+}
+
+template <std::size_t kLanes, class Packet,
+          void (*kOccluded)(const int*, RTCScene, RTCIntersectContext*, Packet*)>
+void occluded_packets(RTCScene scene, std::span<const Ray> rays, bool* blocked) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (std::size_t first = 0; first < rays.size(); first += kLanes) {
+    Packet packet{};
+    alignas(64) int valid[kLanes] = {};
+    const std::size_t n = std::min<std::size_t>(kLanes, rays.size() - first);
+    for (std::size_t k = 0; k < n; ++k) {
+      valid[k] = -1;
+      set_lane(packet, k, rays[first + k]);
+    }
+    kOccluded(valid, scene, &context, &packet);
+    for (std::size_t k = 0; k < n; ++k)
+      blocked[first + k] = packet.tfar[k] == -INFINITY;
+  }
+}
+
 using EmbreeTrace = void (*)(RTCScene, std::span<const Ray>, std::span<Hit>);
+using EmbreeOcclusion = void (*)(RTCScene, std::span<const Ray>, bool*);
 
 Implementation embree(std::string name, EmbreeTrace fn, int threads) {
   auto prepare = [fn, threads](const Workload& w) -> Trace {
@@ -170,11 +209,34 @@ std::vector<Implementation> embree_implementations() {
   std::vector<Implementation> impls;
   impls.push_back(embree("embree-intersect1", intersect1, 1));
   if (all_threads() > 1) impls.push_back(embree("embree-intersect1", intersect1, all_threads()));
+  constexpr auto intersect8 = intersect_packets<8, RTCRayHit8, rtcIntersect8>;
+  constexpr auto intersect16 = intersect_packets<16, RTCRayHit16, rtcIntersect16>;
   if (rtcGetDeviceProperty(device(), RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED)) {
     impls.push_back(embree("embree-intersect8", intersect8, 1));
     if (all_threads() > 1) impls.push_back(embree("embree-intersect8", intersect8, all_threads()));
   }
+  if (rtcGetDeviceProperty(device(), RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED)) {
+    impls.push_back(embree("embree-intersect16", intersect16, 1));
+    if (all_threads() > 1)
+      impls.push_back(embree("embree-intersect16", intersect16, all_threads()));
+  }
   return impls;
+}
+
+std::vector<Occluder> embree_occluders() {
+  const auto make = [](std::string name, EmbreeOcclusion fn) {
+    return Occluder{std::move(name), [fn](const Workload& w) -> Occlusion {
+                      return [fn, scene = scene_for(w)](std::span<const Ray> rays, bool* blocked) {
+                        fn(scene.get(), rays, blocked);
+                      };
+                    }};
+  };
+  std::vector<Occluder> occluders{make("embree-occluded1", occluded1)};
+  if (rtcGetDeviceProperty(device(), RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED))
+    occluders.push_back(make("embree-occluded8", occluded_packets<8, RTCRay8, rtcOccluded8>));
+  if (rtcGetDeviceProperty(device(), RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED))
+    occluders.push_back(make("embree-occluded16", occluded_packets<16, RTCRay16, rtcOccluded16>));
+  return occluders;
 }
 
 std::vector<Builder> embree_builders() {

@@ -53,9 +53,21 @@ struct Builder {
 /// dispatched query per ray, and the dispatched stream on one and on all threads.
 std::vector<Implementation> kernel_implementations();
 
+/// Traces shadow rays into blocked flags (blocked[i] for rays[i]).
+using Occlusion = std::function<void(std::span<const Ray> rays, bool* blocked)>;
+
+/// A way to answer occlusion queries on a workload's spheres (the shadow-ray benchmarks).
+struct Occluder {
+  std::string name;
+  std::function<Occlusion(const Workload&)> prepare;
+};
+
 #if SPHRAY_BENCH_EMBREE
-/// Intel Embree 3: rtcIntersect1 on one and all threads, rtcIntersect8 packets.
+/// Intel Embree 3: rtcIntersect1 on one and all threads, rtcIntersect8 and rtcIntersect16
+/// packets where the build has them.
 std::vector<Implementation> embree_implementations();
+/// rtcOccluded1, rtcOccluded8 and rtcOccluded16 (where the build has them), single thread.
+std::vector<Occluder> embree_occluders();
 std::vector<Builder> embree_builders();
 #endif
 
@@ -65,6 +77,8 @@ std::vector<Builder> embree_builders();
 void register_clock_benchmarks();
 /// The queries beyond the closest hit against the closest hit (query_benchmarks.cpp).
 void register_query_benchmarks();
+/// Shadow rays towards one light: occlusion by the tree and by Embree (shadow_benchmarks.cpp).
+void register_shadow_benchmarks();
 
 /// sphray::SphereBVH: per ray, and the stream on one and all threads; its build and refit.
 std::vector<Implementation> bvh_implementations();

@@ -35,12 +35,14 @@ class SceneQueries final : public RayQueries {
       sphray::intersect(view_, rays, hits);
     }
   }
-  bool occluded(const Ray& ray) const {
-    return bvh_ ? sphray::occluded(*bvh_, ray) : sphray::occluded(view_, ray);
-  }
-  void occluded(std::span<const Ray> rays, std::span<bool> out) const override {
-    for (std::size_t i = 0; i < rays.size(); ++i)
-      out[i] = occluded(rays[i]);
+  // The tree's stream call takes coherent groups (shadow rays towards one light) as packets.
+  void occluded(std::span<const Ray> rays, std::span<bool> blocked) const override {
+    if (bvh_) {
+      sphray::occluded(*bvh_, rays, blocked);
+    } else {
+      for (std::size_t i = 0; i < rays.size(); ++i)
+        blocked[i] = sphray::occluded(view_, rays[i]);
+    }
   }
   Surface surface(const Ray& ray, const Hit& hit) const { return sphray::surface(view_, ray, hit); }
 

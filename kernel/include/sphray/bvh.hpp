@@ -91,8 +91,14 @@ SPHRAY_API Hit intersect(const SphereBVH& bvh, const Ray& ray);
 /// True if any sphere is hit in (tmin, tmax).
 SPHRAY_API bool occluded(const SphereBVH& bvh, const Ray& ray);
 
-/// hits[i] = intersect(bvh, rays[i]). Throws std::length_error unless
-/// hits.size() == rays.size().
+/// hits[i] = intersect(bvh, rays[i]). Coherent rays (camera rays in rows or tiles) go through
+/// the tree in packets, the others one at a time; every hit is the single-ray call's. Throws
+/// std::length_error unless hits.size() == rays.size().
 SPHRAY_API void intersect(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> hits);
+
+/// blocked[i] = occluded(bvh, rays[i]). Throws std::length_error unless
+/// blocked.size() == rays.size(). Coherent rays, such as shadow rays towards one light from
+/// neighbouring pixels' hits, go through the tree in packets.
+SPHRAY_API void occluded(const SphereBVH& bvh, std::span<const Ray> rays, std::span<bool> blocked);
 
 }  // namespace sphray

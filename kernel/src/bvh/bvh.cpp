@@ -108,4 +108,11 @@ void intersect(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> h
   A::entries(bvh).bvh_intersect_stream(A::data(bvh), rays.data(), hits.data(), rays.size());
 }
 
+void occluded(const SphereBVH& bvh, std::span<const Ray> rays, std::span<bool> blocked) {
+  if (rays.size() != blocked.size())
+    throw std::length_error("sphray::occluded: rays and blocked differ in size");
+  using A = detail::BvhAccess;
+  A::entries(bvh).bvh_occluded_stream(A::data(bvh), rays.data(), blocked.data(), rays.size());
+}
+
 }  // namespace sphray

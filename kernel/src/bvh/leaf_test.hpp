@@ -62,6 +62,18 @@ struct LeafTest {
     }
   }
 
+  // Whether some sphere of the leaf batch at slot i lies on the ray strictly between tmin and
+  // tmax: the occlusion test, the same for a single ray and a packet's rays.
+  template <bool kMasked>
+  SPHRAY_FORCE_INLINE static bool any_hit(const BvhData& bvh, const typename Batch::RaySetup& s,
+                                          std::size_t i) {
+    Floats t;
+    Mask live;
+    const auto spheres = Batch::template load_seen<kMasked>(bvh.spheres, i, s);
+    return Batch::template roots<Skip::kAfterDisc>(s, spheres, t, live) &&
+           xsimd::any(live & (t > s.tmin) & (t < Floats(s.tmax)));
+  }
+
   // The lowest id among the lanes of the leaf at slot i whose bits are set (at least one).
   // Several lanes share the smallest t only for equal spheres: the loop rarely runs.
   static std::uint32_t lowest_id(const BvhData& bvh, std::size_t i, unsigned lanes) {

@@ -107,4 +107,9 @@ void scalar_bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits,
     hits[i] = scalar_bvh_intersect(bvh, rays[i]);
 }
 
+void scalar_bvh_occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i)
+    blocked[i] = scalar_bvh_occluded(bvh, rays[i]);
+}
+
 }  // namespace sphray::detail

@@ -15,5 +15,6 @@ inline constexpr std::size_t kScalarBvhWidth = 4;
 Hit scalar_bvh_intersect(const BvhData& bvh, const Ray& ray);
 bool scalar_bvh_occluded(const BvhData& bvh, const Ray& ray);
 void scalar_bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n);
+void scalar_bvh_occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n);
 
 }  // namespace sphray::detail

@@ -1,5 +1,6 @@
-// The SIMD walk's stream of rays, written once over an xsimd architecture A: one ray at a time,
-// or on large trees several in turns, so that their cache misses overlap.
+// The SIMD walk's stream of rays, written once over an xsimd architecture A: coherent rays in
+// packets, the others one ray at a time, or on large trees several in turns, so that their
+// cache misses overlap.
 #pragma once
 
 #include <cstddef>
@@ -8,6 +9,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "bvh/bvh_data.hpp"
+#include "bvh/packet_stream.hpp"
 #include "bvh/traverse.hpp"
 #include "dispatch/query_plan.hpp"
 #include "simd/force_inline.hpp"
@@ -24,8 +26,8 @@ struct TreeStream {
   template <bool kAhead>
   using Walk = typename TreeWalk<A>::template Walk<kAhead>;
 
-  // hits[i] = intersect(bvh, rays[i]): a chunk of rays one at a time, or in turns where the
-  // plan says. The tree's leaf test is picked once per call.
+  // hits[i] = intersect(bvh, rays[i]): a chunk of rays in turns, in packets, or one at a time,
+  // as the plan says. The tree's leaf test is picked once per call.
   static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
     const bool masked = bvh.spheres.mask != nullptr;
     if (Plan::branch_free_leaves(bvh)) {
@@ -48,9 +50,35 @@ struct TreeStream {
       const std::size_t count = n - begin > kChunk ? kChunk : n - begin;
       if (Plan::walks_in_turns(bvh, rays + begin, count)) {
         intersect_in_turns<kBranchFree, kMasked>(bvh, rays + begin, hits + begin, count);
+      } else if (Plan::packets(bvh) && !Plan::scattered(rays + begin, count)) {
+        PacketStream<A>::template intersect<kBranchFree, kMasked>(bvh, rays + begin, hits + begin,
+                                                                  count);
       } else {
         for (std::size_t i = begin; i < begin + count; ++i)
           hits[i] = Tree::template intersect<kBranchFree, kMasked>(bvh, rays[i]);
+      }
+    }
+  }
+
+  // blocked[i] = occluded(bvh, rays[i]): coherent rays (shadow rays towards one light) in
+  // packets, the others one at a time.
+  static void occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n) {
+    if (bvh.spheres.mask != nullptr)
+      occluded_stream<true>(bvh, rays, blocked, n);
+    else
+      occluded_stream<false>(bvh, rays, blocked, n);
+  }
+
+  template <bool kMasked>
+  static void occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n) {
+    constexpr std::size_t kChunk = Plan::kStreamChunk;
+    for (std::size_t begin = 0; begin < n; begin += kChunk) {
+      const std::size_t count = n - begin > kChunk ? kChunk : n - begin;
+      if (Plan::packets(bvh) && !Plan::scattered(rays + begin, count)) {
+        PacketStream<A>::template occluded<kMasked>(bvh, rays + begin, blocked + begin, count);
+      } else {
+        for (std::size_t i = begin; i < begin + count; ++i)
+          blocked[i] = Tree::template occluded<kMasked>(bvh, rays[i]);
       }
     }
   }

@@ -58,14 +58,9 @@ struct BvhTraversal {
   static bool occluded(const BvhData& bvh, const Ray& ray) {
     typename Batch::RaySetup s;
     if (!Batch::setup(ray, s)) return false;
-    const Floats tmax(s.tmax);
     bool hit = false;
     Walks::traverse(bvh, ray, s.tmax, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
-      Floats t;
-      Mask live;
-      const auto spheres = Batch::template load_seen<kMasked>(bvh.spheres, first, s);
-      hit = Batch::template roots<Skip::kAfterDisc>(s, spheres, t, live) &&
-            xsimd::any(live & (t > s.tmin) & (t < tmax));
+      hit = Leaves::template any_hit<kMasked>(bvh, s, first);
       return hit;
     });
     return hit;

@@ -66,6 +66,17 @@ struct EntryPoints {
     }
     TreeStream<A>::intersect_stream(bvh, rays, hits, n);
   }
+  static void bvh_occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked,
+                                  std::size_t n) {
+    if (QueryPlan::scalar(bvh.count)) return scalar_bvh_occluded_stream(bvh, rays, blocked, n);
+    if (QueryPlan::brute_force_tree(bvh)) {
+      const SphereView v = flat_spheres(bvh);
+      for (std::size_t i = 0; i < n; ++i)
+        blocked[i] = Brute::occluded(v, rays[i]);
+      return;
+    }
+    TreeStream<A>::occluded_stream(bvh, rays, blocked, n);
+  }
 
   // Every crossing: the SIMD path whatever the size, since it returns the scalar reference's
   // bits (the same roots) and a handful of spheres costs it no more than the scalar loop.
@@ -106,6 +117,7 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::bvh_intersect,
           &E::bvh_occluded,
           &E::bvh_intersect_stream,
+          &E::bvh_occluded_stream,
           &E::intersect_all,
           &E::bvh_intersect_all,
           &E::nearest,

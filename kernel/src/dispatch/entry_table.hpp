@@ -29,6 +29,9 @@ struct EntryTable {
   Hit (*bvh_intersect)(const BvhData& bvh, const Ray& ray);
   bool (*bvh_occluded)(const BvhData& bvh, const Ray& ray);
   void (*bvh_intersect_stream)(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t count);
+  /// blocked[i] = bvh_occluded(bvh, rays[i]) for i < count.
+  void (*bvh_occluded_stream)(const BvhData& bvh, const Ray* rays, bool* blocked,
+                              std::size_t count);
   /// Every crossing (all_hits.hpp): the nearest capacity of them into hits (and exits, if not
   /// null), sorted; returns how many there are in all.
   std::size_t (*intersect_all)(SphereView spheres, const Ray& ray, Hit* hits, bool* exits,

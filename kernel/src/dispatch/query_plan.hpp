@@ -8,6 +8,7 @@
 //                                     3. the box test: rays ahead of their origin, or any ray
 //                                     5. the walk, or brute force (small trees)
 //   sphray::intersect(tree, rays, ..) 4. one ray at a time, or several walks in turns
+//   sphray::occluded(tree, rays, ..)  6. coherent groups of rays as packets (both streams)
 //
 // Measured in docs/performance.md and docs/bvh.md; docs/architecture.md follows a ray through.
 #pragma once
@@ -88,6 +89,46 @@ struct QueryPlan {
   // scenes, incoherent rays (docs/performance.md, "Small trees"): the walk overtakes between 8
   // and 10 leaves on both widths (about 128 spheres for the 16-wide tree, 80 for the 8-wide).
   static bool brute_force_tree(const BvhData& bvh) { return bvh.flat; }
+
+  // 6. A packet of coherent rays tests a node's children once for all its rays, as an interval
+  // ray (bvh/packet.hpp): where the rays run nearly parallel and start close together, that
+  // interval is hardly wider than one ray and a node costs the packet what it costs one ray;
+  // where they diverge, it enters nearly every box and the rays' own leaf-box tests do the
+  // work with no culling above them. The stream judges consecutive rays kPacketRays at a time,
+  // before any setup, so that a group that fails costs a few multiplications per ray: a packet
+  // if at least three quarters of them (and kPacketMinRays) point within kPacketCosine of the
+  // group's first ray and their origins span at most kPacketOrigins of the tree's extent.
+  // Those of one octant (one near plane per axis) that are ahead then form the packet, the
+  // others go one at a time (docs/bvh.md, "Packets").
+  static constexpr std::size_t kPacketRays = 32;
+  static constexpr std::size_t kPacketMinRays = 8;
+  static constexpr float kPacketCosine = 0.97f;  // about 14 degrees
+  static constexpr float kPacketOrigins = 1.0f / 64.0f;
+  static bool packets(const BvhData& bvh) {
+    return bvh.node_count != 0 && bvh.count > bvh.width;  // one leaf: no nodes to share
+  }
+  // Stops at the first ray that decides against a packet: on the groups that fail (shadow
+  // rays from scattered hit points, mostly) within a few rays.
+  static bool coherent(const Ray* rays, std::size_t n, float tree_extent) {
+    if (n < kPacketMinRays) return false;
+    const Vec3& f = rays[0].dir;
+    const float ff = f.x * f.x + f.y * f.y + f.z * f.z;
+    const float limit = kPacketOrigins * tree_extent;
+    const std::size_t far_allowed = n / 4;
+    std::size_t far = 0;
+    Vec3 lo = rays[0].origin, hi = lo;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 &d = rays[i].dir, &o = rays[i].origin;
+      const float fd = f.x * d.x + f.y * d.y + f.z * d.z, dd = d.x * d.x + d.y * d.y + d.z * d.z;
+      // The cosine over kPacketCosine without sqrt or divide; NaN compares false.
+      const bool close = fd > 0.0f && fd * fd > kPacketCosine * kPacketCosine * ff * dd;
+      if (!close && ++far > far_allowed) return false;
+      lo = {o.x < lo.x ? o.x : lo.x, o.y < lo.y ? o.y : lo.y, o.z < lo.z ? o.z : lo.z};
+      hi = {o.x > hi.x ? o.x : hi.x, o.y > hi.y ? o.y : hi.y, o.z > hi.z ? o.z : hi.z};
+      if (hi.x - lo.x > limit || hi.y - lo.y > limit || hi.z - lo.z > limit) return false;
+    }
+    return true;
+  }
 };
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -1,0 +1,214 @@
+// The stream calls' packets (bvh/packet.hpp): intersect(bvh, rays, hits) and
+// occluded(bvh, rays, blocked) must give each ray exactly, to the bit, what the single-ray
+// calls give it, whether its group went through the tree as a packet or one ray at a time.
+// The oracle is the single-ray walk, itself checked against brute force (bvh_test.cpp).
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "dispatch/query_plan.hpp"
+#include "test_support.hpp"
+
+namespace sphray {
+namespace {
+
+// Scenes of n spheres in a box of half-size 10: random, in a tight cluster, one sphere many
+// times over (every hit a tie, which the lower id wins), and random with a ground sphere.
+enum class Scene { random, clustered, ties, ground };
+
+SphereSoA make_scene(Scene kind, std::size_t n, std::mt19937& rng, bool masked) {
+  SphereSoA s;
+  if (kind == Scene::ground) s.add({0.0f, -1000.0f, 0.0f}, 990.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    // Radii that let about half the camera's rays hit something (test::fill_random's).
+    const float r_mean = 6.0f / std::cbrt(static_cast<float>(n) + 1.0f);
+    Vec3 c = test::random_in_box(rng, 10.0f);
+    float r = r_mean * test::uniform(rng, 0.3f, 1.7f);
+    if (kind == Scene::clustered) c = c * 0.2f;
+    if (kind == Scene::ties) c = Vec3{float(i % 5), 0.0f, 0.0f}, r = 2.0f;
+    if (masked)
+      s.add(c, r, 1u << (i % 3));
+    else
+      s.add(c, r);
+  }
+  return s;
+}
+
+// A pinhole camera's rays of a width x height image, row-major, as a renderer makes them.
+std::vector<Ray> camera_rays(Vec3 eye, Vec3 at, int width, int height, float tmin) {
+  const Vec3 forward = normalize(at - eye);
+  const Vec3 right = normalize(cross(forward, Vec3{0, 1, 0}));
+  const Vec3 up = cross(right, forward);
+  std::vector<Ray> rays;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const float u = (static_cast<float>(x) + 0.5f) / static_cast<float>(width) - 0.5f;
+      const float v = 0.5f - (static_cast<float>(y) + 0.5f) / static_cast<float>(height);
+      rays.push_back({eye, forward + 0.5f * u * right + 0.4f * v * up, tmin});
+    }
+  }
+  return rays;
+}
+
+// Shadow rays towards one point light from where the rays hit, in the rays' order: tmax 1 is
+// the light itself (dir = light - p).
+std::vector<Ray> shadow_rays(const SphereBVH& bvh, const std::vector<Ray>& rays, Vec3 light) {
+  std::vector<Ray> shadows;
+  for (const Ray& ray : rays) {
+    const Hit hit = intersect(bvh, ray);
+    if (!hit.found()) continue;
+    const Vec3 p = ray.at(hit.t);
+    shadows.push_back({p, light - p, 1e-3f, 1.0f});
+  }
+  return shadows;
+}
+
+// rays with every seventh one replaced by a ray the contract or the packets treat apart:
+// invalid (missing everything), not ahead of its origin (the general box test), of another
+// octant, masked out, or with a short or unbounded interval. Their groups go on as packets of
+// the others.
+std::vector<Ray> with_odd_rays(std::vector<Ray> rays) {
+  const Vec3 o = rays.front().origin, d = rays.front().dir;
+  const Ray odd[] = {
+      {o, {NAN, d.y, d.z}},
+      {{INFINITY, o.y, o.z}, d},
+      {o, {0.0f, 0.0f, 0.0f}},
+      {o, d, 2.0f, 1.0f},
+      {o, d, NAN},
+      {o, {0.0f, d.y, d.z}},
+      {o, {0x1p-140f, d.y, d.z}},
+      {o, d, -5.0f},
+      {o, -1.0f * d},
+      {o, {-d.x, d.y, d.z}},
+      {o, d, 0.0f, INFINITY, 0u},
+      {o, d, 0.0f, 30.0f},
+      {o, d, 0.0f, NAN},
+      {o, {d.x * 1e-20f, d.y * 1e-20f, d.z * 1e-20f}},
+  };
+  for (std::size_t i = 3, k = 0; i < rays.size(); i += 7, ++k)
+    rays[i] = odd[k % std::size(odd)];
+  return rays;
+}
+
+// Random origins and directions: no group is coherent, every ray walks alone.
+std::vector<Ray> scattered_rays(std::size_t n, std::mt19937& rng) {
+  std::vector<Ray> rays(n);
+  for (auto& r : rays)
+    r = {test::random_in_box(rng, 12.0f), test::random_direction(rng)};
+  return rays;
+}
+
+void expect_stream_is_single(const SphereBVH& bvh, const std::vector<Ray>& rays,
+                             const std::string& what) {
+  std::vector<Hit> hits(rays.size());
+  intersect(bvh, rays, hits);
+  // std::vector<bool> has no span: a plain array.
+  std::unique_ptr<bool[]> blocked(new bool[rays.size()]);
+  occluded(bvh, rays, std::span<bool>(blocked.get(), rays.size()));
+  std::size_t found = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Hit single = intersect(bvh, rays[i]);
+    ASSERT_EQ(hits[i].id, single.id) << what << " ray " << i;
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(hits[i].t), std::bit_cast<std::uint32_t>(single.t))
+        << what << " ray " << i << ": " << hits[i].t << " vs " << single.t;
+    ASSERT_EQ(blocked[i], occluded(bvh, rays[i])) << what << " occluded, ray " << i;
+    found += single.found();
+  }
+  // The rays must reach the spheres for the comparison to say anything.
+  EXPECT_GT(found, 0u) << what;
+}
+
+std::string label(const EntryTable* k, Scene scene, std::size_t n, bool masked) {
+  const char* names[] = {"random", "clustered", "ties", "ground"};
+  return test::name_of(k) + " " + names[static_cast<int>(scene)] + " n=" + std::to_string(n) +
+         (masked ? " masked" : "");
+}
+
+// Camera rays (in both halves of the image: two octants), shadow rays towards a point light,
+// the same with odd rays mixed in, scattered rays, and a stream whose length leaves a partial
+// packet: on every instruction set, both leaf tests, masked spheres and ties.
+TEST(Packets, StreamGivesEachRayExactlyTheSingleRayAnswer) {
+  std::mt19937 rng(19);
+  for (const EntryTable* k : test::runnable_kernels()) {
+    for (const Scene kind : {Scene::random, Scene::clustered, Scene::ties, Scene::ground}) {
+      for (const std::size_t n : {std::size_t{40}, std::size_t{3000}}) {
+        for (const bool masked : {false, true}) {
+          const SphereSoA scene = make_scene(kind, n, rng, masked);
+          const SphereBVH bvh(scene.view(), k->isa);
+          const std::string what = label(k, kind, n, masked);
+          std::vector<Ray> camera = camera_rays({1.0f, 4.0f, -40.0f}, {0, 0, 0}, 83, 61, 0.0f);
+          if (masked)
+            for (std::size_t i = 0; i < camera.size(); ++i)
+              camera[i].mask = 1u << (i / 200 % 3);
+          expect_stream_is_single(bvh, camera, what + " camera");
+          if (kind != Scene::ties) {  // a hit point on one of many equal spheres: no shadow
+            expect_stream_is_single(bvh, shadow_rays(bvh, camera, {30.0f, 40.0f, -20.0f}),
+                                    what + " shadow");
+          }
+          expect_stream_is_single(bvh, with_odd_rays(camera), what + " odd");
+          // Three packets and five rays, from the middle of the image (where the spheres are).
+          const auto middle = camera.begin() + static_cast<std::ptrdiff_t>(camera.size() / 2);
+          expect_stream_is_single(bvh, {middle, middle + 101}, what + " partial");
+          if (kind == Scene::random)
+            expect_stream_is_single(bvh, scattered_rays(2000, rng), what + " scattered");
+        }
+      }
+    }
+  }
+}
+
+// A camera inside a dense scene, its rays starting past tmin = 1e-3 as bounce rays do: every
+// packet meets many leaves, the branch-free leaf test among them.
+TEST(Packets, DenseSceneFromInside) {
+  std::mt19937 rng(20);
+  SphereSoA scene;
+  for (int i = 0; i < 20000; ++i)
+    scene.add(test::random_in_box(rng, 10.0f), test::uniform(rng, 0.05f, 0.3f));
+  for (const EntryTable* k : test::runnable_kernels()) {
+    const SphereBVH bvh(scene.view(), k->isa);
+    const auto camera = camera_rays({0.1f, 0.2f, 0.3f}, {5, 3, 9}, 64, 48, 1e-3f);
+    expect_stream_is_single(bvh, camera, test::name_of(k) + " inside");
+    expect_stream_is_single(bvh, shadow_rays(bvh, camera, {-3.0f, 9.0f, 2.0f}),
+                            test::name_of(k) + " inside, shadow");
+  }
+}
+
+// The camera rays above go through the tree as packets: most groups of kPacketRays
+// consecutive rays are coherent by the plan's measure, and scattered rays are not.
+TEST(Packets, CameraRowsAreCoherentForThePlan) {
+  using Plan = detail::baseline::QueryPlan;
+  std::mt19937 rng(21);
+  const auto camera = camera_rays({1.0f, 4.0f, -40.0f}, {0, 0, 0}, 83, 61, 0.0f);
+  const auto scattered = scattered_rays(camera.size(), rng);
+  std::size_t groups = 0, coherent = 0, scattered_coherent = 0;
+  for (std::size_t begin = 0; begin + Plan::kPacketRays <= camera.size();
+       begin += Plan::kPacketRays, ++groups) {
+    coherent += Plan::coherent(&camera[begin], Plan::kPacketRays, 20.0f);
+    scattered_coherent += Plan::coherent(&scattered[begin], Plan::kPacketRays, 20.0f);
+  }
+  EXPECT_GT(coherent, groups / 2) << coherent << " of " << groups;
+  EXPECT_EQ(scattered_coherent, 0u);
+}
+
+TEST(Packets, OccludedStreamChecksItsSize) {
+  SphereSoA scene;
+  scene.add({0, 0, 5}, 1.0f);
+  const SphereBVH bvh(scene.view());
+  const Ray rays[2] = {{{0, 0, 0}, {0, 0, 1}}, {{0, 0, 0}, {0, 1, 0}}};
+  bool blocked[2] = {false, true};
+  EXPECT_THROW(occluded(bvh, rays, std::span<bool>(blocked, 1)), std::length_error);
+  occluded(bvh, rays, blocked);
+  EXPECT_TRUE(blocked[0]);
+  EXPECT_FALSE(blocked[1]);
+}
+
+}  // namespace
+}  // namespace sphray
