@@ -18,6 +18,7 @@
 #include <memory>
 #include <string>
 
+#include "render_args.hpp"
 #include "sphray/mpi/distributed_scene.hpp"
 #include "sphray/mpi/particle_file.hpp"
 #include "sphray/mpi/spatial_split.hpp"
@@ -64,17 +65,6 @@ class DistributedQueries final : public RayQueries {
 
  private:
   const DistributedScene& scene_;
-};
-
-struct RenderArgs {
-  std::string scene = "rtiow-final";
-  std::string mode = "normals";
-  int width = 0, height = 0;  // 0: the scene's own size
-  int spp = 4;
-  std::uint64_t seed = 0;
-  int max_depth = 50;
-  std::string output = "sphray.png";
-  bool quiet = false;
 };
 
 // The scene's spheres this rank keeps, with their ids in the scene.
@@ -275,34 +265,15 @@ int run_bench(const BenchArgs& args, MPI_Comm comm) {
   }
 }
 
-void add_render_options(CLI::App& render, RenderArgs& args) {
-  render.add_option("--scene,-s", args.scene, "A preset or a .json file (as sphray render)")
-      ->capture_default_str();
-  render.add_option("--mode,-m", args.mode, "What to show")
-      ->check(CLI::IsMember(mode_names()))
-      ->capture_default_str();
-  render.add_option("--width,-W", args.width, "Image width (default: the scene's)")
-      ->check(CLI::Range(1, kMaxImageSide));
-  render.add_option("--height,-H", args.height, "Image height (default: the scene's)")
-      ->check(CLI::Range(1, kMaxImageSide));
-  render.add_option("--spp", args.spp, "Samples per pixel")
-      ->check(CLI::Range(1, 65536))
-      ->capture_default_str();
-  render.add_option("--seed", args.seed, "Seed of the samples")->capture_default_str();
-  render.add_option("--max-depth", args.max_depth, "Path mode: rays per path at most")
-      ->check(CLI::Range(1, 10000))
-      ->capture_default_str();
-  render.add_option("-o,--output", args.output, "Output image, .png or .ppm (rank 0 writes it)")
-      ->capture_default_str();
-  render.add_flag("--quiet,-q", args.quiet, "No summary line");
-}
-
 int run(int argc, char** argv, MPI_Comm comm) {
   CLI::App app{"sphray-mpi: render with the spheres spread over MPI ranks", "sphray-mpi"};
   app.require_subcommand(1, 1);
   RenderArgs render_args;
   CLI::App* render = app.add_subcommand("render", "Render a scene; rank 0 writes the image");
-  add_render_options(*render, render_args);
+  // One process's threads, clock and file policy have no meaning across ranks: the tiles run
+  // in order on each rank, and a time limit would differ between clocks.
+  add_render_options(*render, render_args,
+                     {.threads = false, .time_limit = false, .accel = false, .force = false});
   std::string generate_scene, generate_output;
   CLI::App* generate =
       app.add_subcommand("generate", "Write a scene's spheres (e.g. random:N) as a particle file");

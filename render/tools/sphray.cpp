@@ -6,19 +6,18 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cerrno>
-#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
-#include <limits>
 #include <mutex>
 #include <new>
 #include <string>
 #include <thread>
 
 #include "bench_command.hpp"
+#include "render_args.hpp"
 #include "sphray/render/image_file.hpp"
 #include "sphray/render/memory_check.hpp"
 #include "sphray/render/renderer.hpp"
@@ -31,21 +30,6 @@ using namespace sphray::render;
 
 constexpr int kExitIo = 1;
 constexpr int kExitUsage = 2;
-
-struct RenderArgs {
-  std::string scene = "rtiow-final";
-  std::string mode = "normals";
-  std::string accel = "auto";
-  int width = 0, height = 0;  // 0: the scene's own size
-  int spp = 4;
-  int threads = 0;
-  std::uint64_t seed = 0;
-  int max_depth = 50;
-  double time_limit = 0.0;
-  std::string output = "sphray.png";
-  bool quiet = false;
-  bool force = false;  // replace a read-only output
-};
 
 void report(const std::string& message) {
   std::fprintf(stderr, "sphray: %s\n", message.c_str());
@@ -62,24 +46,6 @@ int flush_stdout(int status) {
   report(std::string("standard output: cannot write (") +
          (error != 0 ? std::strerror(error) : "write error") + ")");
   return status == 0 ? kExitIo : status;
-}
-
-// --seed takes every value of a std::uint64_t in decimal and nothing else: CLI11 would wrap
-// "-1" to 2^64 - 1 and take "1e23" as a saturated double.
-CLI::Validator seed_range() {
-  const std::string range = "0 to " + std::to_string(std::numeric_limits<std::uint64_t>::max());
-  return CLI::Validator(
-      [range](std::string& text) -> std::string {
-        std::uint64_t value = 0;
-        const char* end = text.data() + text.size();
-        auto [stop, error] = std::from_chars(text.data(), end, value);
-        const bool digits_only = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
-          return c >= '0' && c <= '9';
-        });
-        if (digits_only && error == std::errc() && stop == end) return "";
-        return "Value " + text + " not in range " + range;
-      },
-      "UINT64", "seed range");
 }
 
 // The size asked for: the scene's, or with one side given, the other in the scene's aspect
@@ -273,57 +239,6 @@ int run_info() {
 }
 
 // A number of seconds from 0 to 1e9: CLI::Range lets NaN through and prints its bounds as %f.
-CLI::Validator seconds_validator() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        char* end = nullptr;
-        const double seconds = std::strtod(text.c_str(), &end);
-        if (end == text.c_str() || *end != '\0' || !(seconds >= 0.0 && seconds <= 1e9))
-          return "expected seconds from 0 to 1e9, got " + text;
-        return {};
-      },
-      "SECONDS");
-}
-
-void add_render_options(CLI::App& render, RenderArgs& args) {
-  render.add_option("--scene,-s", args.scene, "A preset (see `sphray scenes`) or a .json file")
-      ->capture_default_str();
-  render.add_option("--mode,-m", args.mode, "What to show")
-      ->check(CLI::IsMember(mode_names()))
-      ->capture_default_str();
-  render.add_option("--width,-W", args.width, "Image width (default: the scene's)")
-      ->check(CLI::Range(1, kMaxImageSide));
-  render.add_option("--height,-H", args.height, "Image height (default: the scene's)")
-      ->check(CLI::Range(1, kMaxImageSide));
-  render.add_option("--spp", args.spp, "Samples per pixel (1: pixel centres, more: jittered)")
-      ->check(CLI::Range(1, 65536))
-      ->capture_default_str();
-  render.add_option("--threads,-j", args.threads, "Worker threads (0: all cores)")
-      ->check(CLI::Range(0, 1024))
-      ->capture_default_str();
-  render.add_option("--seed", args.seed, "Seed of the sample jitter (0 to 2^64 - 1)")
-      ->check(seed_range())
-      ->capture_default_str();
-  render.add_option("--max-depth", args.max_depth, "Path mode: rays per path at most")
-      ->check(CLI::Range(1, 10000))
-      ->capture_default_str();
-  render
-      .add_option("--time-limit", args.time_limit,
-                  "Path mode: seconds after which no sample is started (0: none); every pixel "
-                  "gets the same samples, at least one")
-      ->check(seconds_validator())
-      ->capture_default_str();
-  render.add_option("-o,--output", args.output, "Output image, .png or .ppm")
-      ->capture_default_str();
-  render
-      .add_option("--accel", args.accel,
-                  "Sphere queries: a BVH from 128 spheres on (auto), always, or brute force")
-      ->check(CLI::IsMember(accel_names()))
-      ->capture_default_str();
-  render.add_flag("--quiet,-q", args.quiet, "No progress bar, no summary line");
-  render.add_flag("--force,-f", args.force, "Replace the output even if it is read-only");
-}
-
 void add_bench_options(CLI::App& bench, sphray::render::bench::BenchArgs& args) {
   bench.add_option("--scene,-s", args.scene, "A preset (see `sphray scenes`) or a .json file")
       ->capture_default_str();
