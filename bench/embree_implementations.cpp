@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "embree_spheres.hpp"  // render/src: the Embree glue `sphray bench` uses too
 #include "implementations.hpp"
 #include "threads.hpp"
 
@@ -48,19 +49,7 @@ using SceneHandle = std::shared_ptr<RTCSceneTy>;
 // A committed scene holding the spheres, built on `threads` threads.
 SceneHandle build_scene(const SphereSoA& spheres, int threads) {
   RTCScene scene = rtcNewScene(device());
-  RTCGeometry geometry = rtcNewGeometry(device(), RTC_GEOMETRY_TYPE_SPHERE_POINT);
-  auto* xyzr = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), spheres.size()));
-  for (std::uint32_t i = 0; i < spheres.size(); ++i) {
-    const Vec3 c = spheres.center(i);
-    xyzr[4 * i + 0] = c.x;
-    xyzr[4 * i + 1] = c.y;
-    xyzr[4 * i + 2] = c.z;
-    xyzr[4 * i + 3] = spheres.radius(i);
-  }
-  rtcCommitGeometry(geometry);
-  rtcAttachGeometry(scene, geometry);
-  rtcReleaseGeometry(geometry);
+  embree::attach_spheres(device(), scene, spheres.view());
   run_on_threads(threads, [&] { rtcCommitScene(scene); });
   return SceneHandle(scene, rtcReleaseScene);
 }
@@ -77,76 +66,8 @@ SceneHandle scene_for(const Workload& w) {
   return scene;
 }
 
-RTCRayHit to_embree(const Ray& ray) {
-  RTCRayHit rh{};
-  rh.ray.org_x = ray.origin.x;
-  rh.ray.org_y = ray.origin.y;
-  rh.ray.org_z = ray.origin.z;
-  rh.ray.dir_x = ray.dir.x;
-  rh.ray.dir_y = ray.dir.y;
-  rh.ray.dir_z = ray.dir.z;
-  rh.ray.tnear = ray.tmin;
-  rh.ray.tfar = ray.tmax;
-  rh.ray.mask = ~0u;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  return rh;
-}
-
-Hit from_embree(const RTCRayHit& rh, const Ray& ray) {
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {ray.tmax, kNoHit};
-  return {rh.ray.tfar, rh.hit.primID};
-}
-
-void intersect1(RTCScene scene, std::span<const Ray> rays, std::span<Hit> hits) {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    RTCRayHit rh = to_embree(rays[i]);
-    rtcIntersect1(scene, &context, &rh);
-    hits[i] = from_embree(rh, rays[i]);
-  }
-}
-
-// Fills lane k of an Embree ray packet (RTCRay8, RTCRay16) from ray.
-template <class Packet>
-void set_lane(Packet& packet, std::size_t k, const Ray& ray) {
-  packet.org_x[k] = ray.origin.x;
-  packet.org_y[k] = ray.origin.y;
-  packet.org_z[k] = ray.origin.z;
-  packet.dir_x[k] = ray.dir.x;
-  packet.dir_y[k] = ray.dir.y;
-  packet.dir_z[k] = ray.dir.z;
-  packet.tnear[k] = ray.tmin;
-  packet.tfar[k] = ray.tmax;
-  packet.mask[k] = ~0u;
-}
-
-// Packets of kLanes consecutive rays (8 or 16): neighbouring pixels for camera rays.
-template <std::size_t kLanes, class Packet,
-          void (*kIntersect)(const int*, RTCScene, RTCIntersectContext*, Packet*)>
-void intersect_packets(RTCScene scene, std::span<const Ray> rays, std::span<Hit> hits) {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  for (std::size_t first = 0; first < rays.size(); first += kLanes) {
-    Packet packet{};
-    alignas(64) int valid[kLanes] = {};
-    const std::size_t n = std::min<std::size_t>(kLanes, rays.size() - first);
-    for (std::size_t k = 0; k < n; ++k) {
-      valid[k] = -1;
-      set_lane(packet.ray, k, rays[first + k]);
-      packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-      packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-    }
-    kIntersect(valid, scene, &context, &packet);
-    for (std::size_t k = 0; k < n; ++k) {
-      const Ray& ray = rays[first + k];
-      hits[first + k] = packet.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
-                            ? Hit{ray.tmax, kNoHit}
-                            : Hit{packet.ray.tfar[k], packet.hit.primID[k]};
-    }
-  }
-}
+using embree::set_lane;
+using embree::to_embree;
 
 void occluded1(RTCScene scene, std::span<const Ray> rays, bool* blocked) {
   RTCIntersectContext context;
@@ -207,10 +128,11 @@ Builder embree_builder(int threads) {
 
 std::vector<Implementation> embree_implementations() {
   std::vector<Implementation> impls;
+  using embree::intersect1;
+  using embree::intersect16;
+  using embree::intersect8;
   impls.push_back(embree("embree-intersect1", intersect1, 1));
   if (all_threads() > 1) impls.push_back(embree("embree-intersect1", intersect1, all_threads()));
-  constexpr auto intersect8 = intersect_packets<8, RTCRayHit8, rtcIntersect8>;
-  constexpr auto intersect16 = intersect_packets<16, RTCRayHit16, rtcIntersect16>;
   if (rtcGetDeviceProperty(device(), RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED)) {
     impls.push_back(embree("embree-intersect8", intersect8, 1));
     if (all_threads() > 1) impls.push_back(embree("embree-intersect8", intersect8, all_threads()));

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "command_run.hpp"
 #include "sphray/sphray.hpp"
 #include "test_files.hpp"
 
@@ -15,35 +16,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status;
-  std::string out;  // stdout and stderr together
-};
+using Result = sphray::test::CommandResult;
 
 Result run(const std::string& args) {
-  const std::string command = std::string(SPHRAY_EXE) + " " + args + " 2>&1";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return {-1, "popen failed"};
-  std::string out;
-  char buffer[4096];
-  while (std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe))
-    out.append(buffer, n);
-  const int raw = ::pclose(pipe);
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, out};
+  return sphray::test::run_sphray(args);
 }
 
-class BenchCli : public ::testing::Test {
+class BenchCli : public sphray::test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sphray-bench-" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
+  BenchCli() : ScratchDirTest("sphray-bench-") {}
 };
 
 // The rows a small scene has, per ray kind: scalar and each instruction set's brute force, each
