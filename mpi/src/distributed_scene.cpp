@@ -117,15 +117,11 @@ void DistributedScene::intersect(std::span<const Ray> rays, std::span<Hit> hits)
 
 void DistributedScene::occluded(std::span<const Ray> rays, std::span<bool> out) const {
   if (out.size() != rays.size()) throw std::length_error("occluded: expected one answer per ray");
-  timed(
-      [&] {
-        for (std::size_t i = 0; i < rays.size(); ++i)
-          out[i] = sphray::occluded(bvh_, rays[i]);
-      },
-      [&] {
-        detail::allreduce_in_place(out.data(), out.size(), sizeof(bool), MPI_C_BOOL, MPI_LOR,
-                                   comm_);
-      });
+  timed([&] { sphray::occluded(bvh_, rays, out); },  // the stream: shadow rays go as packets
+        [&] {
+          detail::allreduce_in_place(out.data(), out.size(), sizeof(bool), MPI_C_BOOL, MPI_LOR,
+                                     comm_);
+        });
 }
 
 void DistributedScene::count_hits(std::span<const Ray> rays, std::span<std::size_t> counts) const {
