@@ -38,6 +38,10 @@ class HitList {
   /// Counts crossings that need no place in the list (it has no room at all).
   void count(std::size_t n) { total_ += n; }
   bool counts_only() const { return capacity_ == 0; }
+  /// Whether a crossing must be placed at all: once the list is full, only one at or before
+  /// the last kept t can be (ties are then ordered by add()).
+  bool full() const { return size_ == capacity_; }
+  float last_t() const { return hits_[capacity_ - 1].t; }
 
   std::size_t size() const { return size_; }
   std::size_t total() const { return total_; }
