@@ -239,6 +239,10 @@ PYBIND11_MODULE(sphray, m) {
   m.def(
       "active_isa", [] { return std::string(sphray::isa_name(sphray::active_isa())); },
       "The instruction set the queries use: 'scalar', 'sse4.2', 'avx2', 'avx512' or 'neon'.");
+  m.def(
+      "bvh_isa", [] { return std::string(sphray::isa_name(sphray::bvh_isa())); },
+      "The instruction set a Scene's tree is laid out for and walked with: the fastest for trees "
+      "on this CPU, by a rule on its vendor and family, or SPHRAY_ISA's.");
   m.def("supported_isas", &supported_isa_names,
         "The instruction sets this build has and this machine runs, best first (the values "
         "SPHRAY_ISA may take here).");

@@ -60,10 +60,13 @@ py::array Scene::occluded(const py::handle& origins, const py::handle& direction
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
+    // Through the stream call: on a tree, coherent rays go in packets.
     for_each_chunk(rays.size(), [&](std::size_t begin, std::size_t end) {
+      std::vector<Ray> chunk(end - begin);
+      for (std::size_t i = begin; i < end; ++i)
+        chunk[i - begin] = rays[i];
       answer([&](const auto& spheres) {
-        for (std::size_t i = begin; i < end; ++i)
-          out[i] = sphray::occluded(spheres, rays[i]);
+        sphray::occluded(spheres, std::span<const Ray>(chunk), std::span(out + begin, end - begin));
       });
     });
   }

@@ -35,7 +35,7 @@ for accel in ("brute", "bvh"):
     occ = scene.occluded(origins, directions, tmax=tmax)
     assert (occ[~undecidable] == (ids_ref != ref.NO_HIT)[~undecidable]).all(), accel
     digest.update(t.tobytes() + ids.tobytes() + occ.tobytes())
-print(sphray.active_isa(), digest.hexdigest())
+print(sphray.active_isa(), sphray.bvh_isa(), digest.hexdigest())
 """
 
 
@@ -53,6 +53,10 @@ def test_every_instruction_set_agrees_with_the_reference_and_with_each_other():
     assert "scalar" in isas
     digests = {}
     for isa in isas:
-        active, digests[isa] = run_with_isa(isa)
-        assert active == isa
+        active, tree, digests[isa] = run_with_isa(isa)
+        assert active == isa and tree == isa
     assert len(set(digests.values())) == 1, digests
+
+
+def test_the_tree_isa_is_one_this_machine_runs():
+    assert sphray.bvh_isa() in sphray.supported_isas()

@@ -58,6 +58,27 @@ def test_brute_and_bvh_agree_bit_for_bit(rng, accel):
 
 
 @pytest.mark.parametrize("accel", ACCELS)
+def test_occluded_shadow_rays_towards_one_point(rng, accel):
+    # Coherent rays from a small patch towards one light: the tree takes them in packets, and
+    # each answer must still be the reference's.
+    centers, radii = ref.random_scene(rng, 400)
+    # A sphere across the middle of the beam, so that part of it is blocked, part not.
+    centers = np.vstack([centers, [[-1.40, 0.0, -0.40]]]).astype(np.float32)
+    radii = np.append(radii, 0.12).astype(np.float32)
+    grid = np.stack(np.meshgrid(np.arange(48), np.arange(48)), axis=-1).reshape(-1, 2)
+    origins = np.zeros((len(grid), 3), dtype=np.float32)
+    origins[:, 0] = -2.0 + 0.005 * grid[:, 0]
+    origins[:, 1] = -6.0
+    origins[:, 2] = -1.0 + 0.005 * grid[:, 1]
+    directions = (np.array([1.0, 30.0, 2.0], dtype=np.float32) - origins).astype(np.float32)
+    hit = sphray.Scene(centers, radii, accel=accel).occluded(origins, directions, tmax=1.0)
+    hit_ref, undecidable = ref.occluded(centers, radii, origins, directions, 0.0, 1.0)
+    assert undecidable.mean() < 0.01
+    np.testing.assert_array_equal(hit[~undecidable], hit_ref[~undecidable])
+    assert 0 < hit.sum() < len(hit)
+
+
+@pytest.mark.parametrize("accel", ACCELS)
 def test_per_ray_bounds(rng, accel):
     scene_args = ref.random_scene(rng, 300)
     rays = ref.random_rays(rng, 3000)

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <memory>
+#include <span>
 
 #include "test_support.hpp"
 
@@ -134,11 +136,33 @@ TEST(Agreement, DispatchedStreamEqualsPerRayQueries) {
   }
 }
 
+// The view's occluded stream, on the scalar path (one sphere) and the SIMD one, against the
+// scalar reference ray by ray.
+TEST(Agreement, DispatchedOccludedStreamEqualsTheReference) {
+  for (const std::size_t count : {std::size_t{1}, std::size_t{300}}) {
+    std::mt19937 rng(11);
+    SphereSoA s;
+    test::fill_random(s, count, rng);
+    const auto rays = test::random_rays(5000, rng);
+    const std::unique_ptr<bool[]> blocked(new bool[rays.size()]);
+    occluded(s.view(), rays, std::span<bool>(blocked.get(), rays.size()));
+    std::size_t seen = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      ASSERT_EQ(blocked[i], scalar::occluded(s.view(), rays[i])) << count << " spheres, ray " << i;
+      seen += blocked[i];
+    }
+    EXPECT_GT(seen, 0u) << count << " spheres";
+    EXPECT_LT(seen, rays.size()) << count << " spheres";
+  }
+}
+
 TEST(Agreement, StreamRejectsMismatchedSpans) {
   SphereSoA s;
   std::vector<Ray> rays(3, Ray{{0, 0, 0}, {0, 0, 1}});
   std::vector<Hit> hits(2);
   EXPECT_THROW(intersect(s.view(), rays, hits), std::length_error);
+  bool blocked[2];
+  EXPECT_THROW(occluded(s.view(), rays, std::span<bool>(blocked, 2)), std::length_error);
 }
 
 }  // namespace

@@ -144,6 +144,33 @@ TEST_P(CApiAgreement, OccludedMatchesTheCppApi) {
     ASSERT_EQ(occluded[i], cpp_occluded(rays_[i]) ? 1 : 0) << "ray " << i;
 }
 
+// Shadow rays towards one point, 32 at a time from a short row of origins somewhere in the
+// scene: coherent groups, which the tree's stream call takes in packets
+// (kernel/src/bvh/packet_stream.hpp). Each answer must still be the single-ray call's; some
+// rows are blocked and some not, so a wrong answer shows either way.
+TEST_P(CApiAgreement, CoherentOccludedRaysMatchTheSingleRayCalls) {
+  std::mt19937 rng(7);
+  const float light[3] = {3.0f, 40.0f, -2.0f};
+  std::vector<sphray_ray> rays;
+  for (int row = 0; row < 128; ++row) {
+    const float base[3] = {uniform(rng, -10, 10), uniform(rng, -10, 10), uniform(rng, -10, 10)};
+    for (int k = 0; k < 32; ++k) {
+      const float o[3] = {base[0] + 0.004f * static_cast<float>(k), base[1], base[2]};
+      rays.push_back({o[0], o[1], o[2], light[0] - o[0], light[1] - o[1], light[2] - o[2], 0.0f,
+                      k % 5 == 0 ? 0.5f : 1.0f});
+    }
+  }
+  std::vector<unsigned char> occluded(rays.size(), 7);
+  ASSERT_EQ(sphray_occluded(scene_, rays.data(), occluded.data(), rays.size()), SPHRAY_OK);
+  std::size_t blocked = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(occluded[i], cpp_occluded(rays[i]) ? 1 : 0) << "ray " << i;
+    blocked += occluded[i];
+  }
+  EXPECT_GT(blocked, rays.size() / 20);
+  EXPECT_LT(blocked, rays.size() - rays.size() / 20);
+}
+
 TEST_P(CApiAgreement, ParallelCallsMatchTheSerialOnes) {
   // A tenth of the rays: still 25 chunks of work to share.
   const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(100'000));
@@ -379,6 +406,7 @@ INSTANTIATE_TEST_SUITE_P(Accel, CApiAgreement,
 
 TEST(CApiInfo, NamesTheActiveIsaAndTheVersion) {
   EXPECT_EQ(std::string(sphray_active_isa()), std::string(sphray::isa_name(sphray::active_isa())));
+  EXPECT_EQ(std::string(sphray_bvh_isa()), std::string(sphray::isa_name(sphray::bvh_isa())));
   EXPECT_EQ(std::string(sphray_version()), std::string(sphray::kVersion));
 }
 

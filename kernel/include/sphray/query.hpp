@@ -32,6 +32,10 @@ SPHRAY_API bool occluded(SphereView spheres, const Ray& ray);
 /// hits.size() == rays.size().
 SPHRAY_API void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hits);
 
+/// blocked[i] = occluded(spheres, rays[i]). Throws std::length_error unless
+/// blocked.size() == rays.size().
+SPHRAY_API void occluded(SphereView spheres, std::span<const Ray> rays, std::span<bool> blocked);
+
 /// The surface where hit meets ray: the point re-projected onto the sphere and the outward
 /// unit normal. For a miss (!hit.found()) or an id outside the view: point = ray.at(hit.t),
 /// normal = {0, 0, 0}, front_face = false.

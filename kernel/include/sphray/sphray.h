@@ -80,6 +80,10 @@ SPHRAY_API const char* sphray_version(void);
  * (SPHRAY_ISA in the environment forces one, as for the C++ API). */
 SPHRAY_API const char* sphray_active_isa(void);
 
+/* The instruction set a scene's BVH is laid out for and walked with, named as above: the one
+ * that walks trees fastest on this CPU (by a rule on its vendor and family), or SPHRAY_ISA's. */
+SPHRAY_API const char* sphray_bvh_isa(void);
+
 /* The message of the last failure on the calling thread ("" if none yet). A successful call
  * leaves it as it was: read it only after a non-zero status. Valid until the thread's next
  * call into the library. */
@@ -127,7 +131,9 @@ SPHRAY_API int sphray_scene_release(sphray_scene* scene);
 SPHRAY_API int sphray_intersect(const sphray_scene* scene, const sphray_ray* rays, sphray_hit* hits,
                                 size_t count);
 
-/* occluded[i] = 1 if rays[i] hits any sphere in (tmin, tmax), else 0. */
+/* occluded[i] = 1 if rays[i] hits any sphere in (tmin, tmax), else 0. On a scene with a BVH,
+ * coherent rays (shadow rays towards one light from neighbouring hits) go through it in
+ * packets, as the C++ stream call takes them; each answer is still the single ray's. */
 SPHRAY_API int sphray_occluded(const sphray_scene* scene, const sphray_ray* rays,
                                unsigned char* occluded, size_t count);
 

@@ -1,17 +1,13 @@
-// sphray_version, sphray_active_isa, sphray_last_error, sphray_status_name.
+// sphray_version, sphray_active_isa, sphray_bvh_isa, sphray_last_error, sphray_status_name.
 #include "c_api/last_error.hpp"
 #include "sphray/sphray.h"
 #include "sphray/sphray.hpp"
 
-extern "C" {
+namespace {
 
-const char* sphray_version(void) {
-  return sphray::kVersion;
-}
-
-const char* sphray_active_isa(void) {
-  // C strings with static storage; isa_name() returns views of the same names.
-  switch (sphray::active_isa()) {
+// C strings with static storage; isa_name() returns views of the same names.
+const char* c_name(sphray::Isa isa) {
+  switch (isa) {
     case sphray::Isa::scalar:
       return "scalar";
     case sphray::Isa::sse4_2:
@@ -24,6 +20,22 @@ const char* sphray_active_isa(void) {
       return "neon";
   }
   return "unknown";
+}
+
+}  // namespace
+
+extern "C" {
+
+const char* sphray_version(void) {
+  return sphray::kVersion;
+}
+
+const char* sphray_active_isa(void) {
+  return c_name(sphray::active_isa());
+}
+
+const char* sphray_bvh_isa(void) {
+  return c_name(sphray::bvh_isa());
 }
 
 const char* sphray_last_error(void) {

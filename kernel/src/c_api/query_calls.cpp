@@ -15,30 +15,48 @@ namespace {
 // Rays converted at a time, on the stack: a query allocates nothing.
 constexpr std::size_t kStreamChunk = 256;
 
-// hits[i] for i in [begin, end) through the C++ stream call, a stack chunk at a time. masks:
-// null, or one per ray.
-void intersect_range(const Scene& scene, const sphray_ray* rays, const std::uint32_t* masks,
-                     sphray_hit* hits, std::size_t begin, std::size_t end) {
+// out[i] for i in [begin, end) from a C++ stream call, query(spheres, rays, answers), a stack
+// chunk at a time; to_c turns each answer into its C form. masks: null, or one per ray.
+template <class Answer, class Out, class Query, class ToC>
+void stream_range(const Scene& scene, const sphray_ray* rays, const std::uint32_t* masks, Out* out,
+                  std::size_t begin, std::size_t end, Query query, ToC to_c) {
   std::array<Ray, kStreamChunk> in;
-  std::array<Hit, kStreamChunk> out;
+  std::array<Answer, kStreamChunk> answers;
   for (std::size_t start = begin; start < end; start += kStreamChunk) {
     const std::size_t n = std::min(kStreamChunk, end - start);
     for (std::size_t i = 0; i < n; ++i)
       in[i] = to_ray(rays, masks, start + i);
     const std::span<const Ray> batch(in.data(), n);
-    const std::span<Hit> results(out.data(), n);
-    scene.answer([&](const auto& spheres) { sphray::intersect(spheres, batch, results); });
+    const std::span<Answer> results(answers.data(), n);
+    scene.answer([&](const auto& spheres) { query(spheres, batch, results); });
     for (std::size_t i = 0; i < n; ++i)
-      hits[start + i] = {out[i].t, out[i].id};
+      out[start + i] = to_c(answers[i]);
   }
 }
 
+// Closest hits through intersect(.., rays, hits).
+void intersect_range(const Scene& scene, const sphray_ray* rays, const std::uint32_t* masks,
+                     sphray_hit* hits, std::size_t begin, std::size_t end) {
+  stream_range<Hit>(
+      scene, rays, masks, hits, begin, end,
+      [](const auto& spheres, std::span<const Ray> in, std::span<Hit> out) {
+        sphray::intersect(spheres, in, out);
+      },
+      [](const Hit& h) {
+        return sphray_hit{h.t, h.id};
+      });
+}
+
+// Occlusion through occluded(.., rays, blocked): on a tree, coherent rays (shadow rays towards
+// one light) go in packets.
 void occluded_range(const Scene& scene, const sphray_ray* rays, const std::uint32_t* masks,
                     unsigned char* occluded, std::size_t begin, std::size_t end) {
-  scene.answer([&](const auto& spheres) {
-    for (std::size_t i = begin; i < end; ++i)
-      occluded[i] = sphray::occluded(spheres, to_ray(rays, masks, i)) ? 1 : 0;
-  });
+  stream_range<bool>(
+      scene, rays, masks, occluded, begin, end,
+      [](const auto& spheres, std::span<const Ray> in, std::span<bool> out) {
+        sphray::occluded(spheres, in, out);
+      },
+      [](bool blocked) -> unsigned char { return blocked ? 1 : 0; });
 }
 
 }  // namespace

@@ -31,4 +31,18 @@ void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hit
       .intersect_stream(spheres, rays.data(), hits.data(), rays.size());
 }
 
+// The kernel looked up once for the whole stream; a view has no packets, every ray goes alone.
+void occluded(SphereView spheres, std::span<const Ray> rays, std::span<bool> blocked) {
+  if (rays.size() != blocked.size())
+    throw std::length_error("sphray::occluded: rays and blocked differ in size");
+  if (detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(spheres.count)) {
+    for (std::size_t i = 0; i < rays.size(); ++i)
+      blocked[i] = scalar::occluded(spheres, rays[i]);
+    return;
+  }
+  const detail::EntryTable& entries = detail::entries_for_size(spheres.count);
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    blocked[i] = entries.occluded(spheres, rays[i]);
+}
+
 }  // namespace sphray
