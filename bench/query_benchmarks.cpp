@@ -108,7 +108,7 @@ const Scene& scene(std::string_view name) {
   s->spheres = w.spheres;
   s->rays = w.rays;
   s->brute_rays = w.brute_rays;
-  s->points = random_points(scene_box(w.spheres), kPoints);
+  s->points = random_points(sphere_box(w.spheres), kPoints);
   s->tree = SphereBVH(s->spheres.view());
   s->masks.resize(s->spheres.view().padded_count);
   for (std::size_t i = 0; i < s->masks.size(); ++i)

@@ -33,22 +33,6 @@ int image_side(std::size_t rays) {
   return static_cast<int>(std::lround(std::sqrt(static_cast<double>(rays))));
 }
 
-Vec3 min3(Vec3 a, Vec3 b) {
-  return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
-}
-Vec3 max3(Vec3 a, Vec3 b) {
-  return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
-}
-
-float median_radius(const SphereSoA& spheres) {
-  std::vector<float> radii(spheres.size());
-  for (std::uint32_t i = 0; i < spheres.size(); ++i)
-    radii[i] = spheres.radius(i);
-  auto middle = radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2);
-  std::nth_element(radii.begin(), middle, radii.end());
-  return *middle;
-}
-
 // kSampleRays rays drawn without replacement, so the sample spans the whole image.
 std::vector<Ray> draw_sample(const std::vector<Ray>& rays) {
   if (rays.size() <= kSampleRays) return rays;
@@ -101,7 +85,7 @@ std::unique_ptr<Workload> make_workload(std::string_view scene, RayKind kind) {
     w->rays = std::move(bounces);
     w->brute_rays = spread(w->rays, brute);
   } else {
-    w->rays = random_rays(scene_box(w->spheres), kFullRays, 2024);
+    w->rays = random_rays(sphere_box(w->spheres), kFullRays, 2024, 0.0f);
     w->brute_rays.assign(w->rays.begin(), w->rays.begin() + static_cast<std::ptrdiff_t>(brute));
   }
   w->sample = draw_sample(w->brute_rays);
@@ -147,38 +131,6 @@ std::size_t brute_ray_count(std::size_t spheres) {
   std::size_t rays = kFullRays;
   while (rays > kMinBruteRays && rays * spheres > kBruteTestBudget)
     rays /= 4;
-  return rays;
-}
-
-Box scene_box(const SphereSoA& spheres) {
-  const float limit = 10.0f * median_radius(spheres);
-  Box box{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
-  for (std::uint32_t i = 0; i < spheres.size(); ++i) {
-    const float r = spheres.radius(i);
-    if (r > limit) continue;
-    const Vec3 extent{r, r, r};
-    box.lo = min3(box.lo, spheres.center(i) - extent);
-    box.hi = max3(box.hi, spheres.center(i) + extent);
-  }
-  return box;
-}
-
-std::vector<Ray> random_rays(const Box& box, std::size_t count, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  std::normal_distribution<float> gauss(0.0f, 1.0f);
-  auto lerp = [&](float lo, float hi) { return lo + unit(rng) * (hi - lo); };
-  std::vector<Ray> rays(count);
-  for (Ray& ray : rays) {
-    ray.origin = {lerp(box.lo.x, box.hi.x), lerp(box.lo.y, box.hi.y), lerp(box.lo.z, box.hi.z)};
-    // A normalised Gaussian vector is uniform on the sphere; redraw the (vanishingly rare)
-    // near-zero ones rather than normalise noise.
-    Vec3 d;
-    do {
-      d = {gauss(rng), gauss(rng), gauss(rng)};
-    } while (length_squared(d) < 1e-6f);
-    ray.dir = normalize(d);
-  }
   return rays;
 }
 

@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "random_rays.hpp"
 #include "sphray/sphray.hpp"
 
 namespace sphray::bench {
@@ -36,9 +37,7 @@ inline constexpr std::size_t kMinBruteRays = 256;
 /// Rays whose hits every implementation must reproduce before it is timed.
 inline constexpr std::size_t kSampleRays = 1024;
 
-struct Box {
-  Vec3 lo, hi;
-};
+using render::bench::Box;
 
 struct Workload {
   std::string scene;
@@ -63,12 +62,8 @@ const Workload& workload(std::string_view scene, RayKind kind);
 /// camera image) between kMinBruteRays and kFullRays.
 std::size_t brute_ray_count(std::size_t spheres);
 
-/// The box random ray origins are drawn from: the bounds of the scene's spheres, leaving out
-/// those more than 10 times the median radius (a ground sphere of radius 1000 under spheres
-/// of radius 1 would otherwise put nearly every origin far from anything).
-Box scene_box(const SphereSoA& spheres);
-
-/// count rays with origins uniform in box and directions uniform on the unit sphere.
-std::vector<Ray> random_rays(const Box& box, std::size_t count, unsigned seed);
+// Random rays: the recipe `sphray bench` uses (render/src/random_rays.hpp), with tmin 0 here.
+using render::bench::random_rays;
+using render::bench::sphere_box;
 
 }  // namespace sphray::bench

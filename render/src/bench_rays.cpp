@@ -1,9 +1,8 @@
 #include "bench_rays.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <random>
 
+#include "random_rays.hpp"
 #include "sphray/render/camera.hpp"
 
 namespace sphray::render::bench {
@@ -16,53 +15,6 @@ std::vector<Ray> camera_rays(const Scene& scene) {
   for (int y = 0; y < scene.height; ++y)
     for (int x = 0; x < scene.width; ++x)
       rays.push_back(camera.ray(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
-  return rays;
-}
-
-struct Box {
-  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-};
-
-// The bounds of the spheres, leaving out those over 10 times the median radius: a ground sphere
-// of radius 1000 under spheres of radius 1 would otherwise put nearly every origin far from
-// anything.
-Box sphere_box(const SphereSoA& spheres) {
-  std::vector<float> radii(spheres.size());
-  for (std::uint32_t i = 0; i < spheres.size(); ++i)
-    radii[i] = spheres.radius(i);
-  const auto middle = radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2);
-  std::nth_element(radii.begin(), middle, radii.end());
-  const float limit = 10.0f * *middle;
-  Box box;
-  for (std::uint32_t i = 0; i < spheres.size(); ++i) {
-    const float r = spheres.radius(i);
-    if (!(r <= limit)) continue;
-    const Vec3 c = spheres.center(i);
-    box.lo = {std::min(box.lo.x, c.x - r), std::min(box.lo.y, c.y - r),
-              std::min(box.lo.z, c.z - r)};
-    box.hi = {std::max(box.hi.x, c.x + r), std::max(box.hi.y, c.y + r),
-              std::max(box.hi.z, c.z + r)};
-  }
-  if (!(box.lo.x <= box.hi.x)) box = {{-1, -1, -1}, {1, 1, 1}};  // no finite sphere
-  return box;
-}
-
-std::vector<Ray> random_rays(const SphereSoA& spheres) {
-  const Box box = sphere_box(spheres);
-  std::mt19937 rng(2024);
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  std::normal_distribution<float> gauss(0.0f, 1.0f);
-  auto lerp = [&](float lo, float hi) { return lo + unit(rng) * (hi - lo); };
-  std::vector<Ray> rays(kRandomRays);
-  for (Ray& ray : rays) {
-    ray.origin = {lerp(box.lo.x, box.hi.x), lerp(box.lo.y, box.hi.y), lerp(box.lo.z, box.hi.z)};
-    Vec3 d;
-    do {  // a normalised Gaussian vector is uniform on the sphere
-      d = {gauss(rng), gauss(rng), gauss(rng)};
-    } while (length_squared(d) < 1e-6f);
-    ray.dir = normalize(d);
-    ray.tmin = 1e-3f;
-  }
   return rays;
 }
 
@@ -93,7 +45,7 @@ RaySet make_ray_set(const Scene& scene, RayKind kind) {
     set.description =
         std::to_string(scene.width) + "x" + std::to_string(scene.height) + " camera image";
   } else {
-    set.rays = random_rays(scene.spheres);
+    set.rays = random_rays(sphere_box(scene.spheres), kRandomRays, 2024, 1e-3f);
     set.description = std::to_string(set.rays.size()) + " random rays";
   }
   set.brute_rays = spread(set.rays, brute_ray_count(set.rays.size(), scene.spheres.size()));
