@@ -122,23 +122,24 @@ class TileTracer {
   // Every pixel's camera ray: a point drawn uniformly in the pixel, as the book's sample_square
   // does, and one on the lens when the camera has defocus blur, the path's first draws.
   void start_paths(const Tile& tile, std::uint32_t sample, Wavefront& w) const {
-    w.live = tile.pixels();
-    for (std::size_t i = 0; i < w.live; ++i) {
-      const int x = tile.x0 + static_cast<int>(i) % tile.width;
-      const int y = tile.y0 + static_cast<int>(i) / tile.width;
-      PathRandom random(options_.seed, pixel_index(x, y), sample);
-      const float px = static_cast<float>(x) + random.uniform();
-      const float py = static_cast<float>(y) + random.uniform();
-      w.counter[i] = random.counter();
-      if (camera_.has_defocus()) {
-        const DiskPoint lens = disk_point(w.counter[i]);
-        w.counter[i] = lens.counter;
-        w.rays[i] = camera_.ray(px, py, lens.u, lens.v);
-      } else {
-        w.rays[i] = camera_.ray(px, py);
+    w.live = 0;
+    for (int y = tile.y0; y < tile.y0 + tile.height; ++y) {
+      for (int x = tile.x0; x < tile.x0 + tile.width; ++x) {
+        const std::size_t i = w.live++;
+        PathRandom random(options_.seed, pixel_index(x, y), sample);
+        const float px = static_cast<float>(x) + random.uniform();
+        const float py = static_cast<float>(y) + random.uniform();
+        w.counter[i] = random.counter();
+        if (camera_.has_defocus()) {
+          const DiskPoint lens = disk_point(w.counter[i]);
+          w.counter[i] = lens.counter;
+          w.rays[i] = camera_.ray(px, py, lens.u, lens.v);
+        } else {
+          w.rays[i] = camera_.ray(px, py);
+        }
+        w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
+        w.slot[i] = static_cast<std::uint16_t>(i);
       }
-      w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
-      w.slot[i] = static_cast<std::uint16_t>(i);
     }
   }
 

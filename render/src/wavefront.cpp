@@ -37,7 +37,7 @@ float away(float x, float sign) {
 }
 
 // Each live path's ray, hit and sphere, one array per quantity.
-void gather(Wavefront& w, const ShadingTable& table) {
+[[gnu::noinline]] void gather(Wavefront& w, const ShadingTable& table) {
   for (std::size_t k = 0; k < w.live; ++k) {
     const Ray& ray = w.rays[k];
     w.ox[k] = ray.origin.x, w.oy[k] = ray.origin.y, w.oz[k] = ray.origin.z;
@@ -52,8 +52,9 @@ void gather(Wavefront& w, const ShadingTable& table) {
   }
 }
 
-// sphray::surface() for every lane, the unit incoming direction, and the sky light of a miss.
-void surfaces(Wavefront& w, const Sky& sky) {
+// sphray::surface() for every lane, the unit incoming direction, the normal against it, and the
+// sky light of a miss.
+[[gnu::noinline]] void surfaces(Wavefront& w, const Sky& sky) {
   const Vec3 horizon = sky.horizon, zenith = sky.zenith;  // no aliasing the lanes: vectorised
   for (std::size_t k = 0; k < w.live; ++k) {
     const float px = w.ox[k] + w.t[k] * w.dx[k];
@@ -76,55 +77,30 @@ void surfaces(Wavefront& w, const Sky& sky) {
     w.px[k] = w.cx[k] + w.radius[k] * nx;
     w.py[k] = w.cy[k] + w.radius[k] * ny;
     w.pz[k] = w.cz[k] + w.radius[k] * nz;
-    w.front[k] = w.dx[k] * nx + w.dy[k] * ny + w.dz[k] * nz < 0.0f;
-    // Sky::radiance(dir), with normalize(dir).y the lane's uy.
-    const float a = 0.5f * (w.uy[k] + 1.0f);
-    w.sr[k] = w.tr[k] * ((1.0f - a) * horizon.x + a * zenith.x);  // for a miss
-    w.sg[k] = w.tg[k] * ((1.0f - a) * horizon.y + a * zenith.y);
-    w.sb[k] = w.tb[k] * ((1.0f - a) * horizon.z + a * zenith.z);
-  }
-}
-
-// The normal against the incoming ray (as scatter() turns it), and what a dielectric needs.
-void orient(Wavefront& w) {
-  for (std::size_t k = 0; k < w.live; ++k) {
-    // Every load unconditional, every store too: a conditional one keeps GCC from vectorising.
-    const bool front = w.front[k];
-    const float nx = w.nx[k], ny = w.ny[k], nz = w.nz[k], ior = w.ior[k];
-    const float ux = w.ux[k], uy = w.uy[k], uz = w.uz[k];
+    // The normal against the incoming ray (as scatter() turns it), and a dielectric's eta.
+    // Every load and store unconditional: a conditional one keeps GCC from vectorising.
+    const bool front = w.dx[k] * nx + w.dy[k] * ny + w.dz[k] * nz < 0.0f;
     const float ox = front ? nx : -nx, oy = front ? ny : -ny, oz = front ? nz : -nz;
     w.onx[k] = ox, w.ony[k] = oy, w.onz[k] = oz;
-    const float inverse = 1.0f / ior;
+    const float ior = w.ior[k], inverse = 1.0f / ior;
     w.eta[k] = front ? inverse : ior;
-    const float c = -ux * ox + -uy * oy + -uz * oz;
+    const float c = -w.ux[k] * ox + -w.uy[k] * oy + -w.uz[k] * oz;
     w.cosine[k] = 1.0f < c ? 1.0f : c;
+    // Sky::radiance(dir), with normalize(dir).y the lane's uy.
+    const float a = 0.5f * (w.uy[k] + 1.0f);
+    // For a miss; a hit adds +0, which leaves a radiance sum's bits as they are (no sum of
+    // such terms is ever -0, and x + 0 == x bit for bit for every other x).
+    const float lr = w.tr[k] * ((1.0f - a) * horizon.x + a * zenith.x);
+    const float lg = w.tg[k] * ((1.0f - a) * horizon.y + a * zenith.y);
+    const float lb = w.tb[k] * ((1.0f - a) * horizon.z + a * zenith.z);
+    const bool hit = w.found[k];
+    w.sr[k] = hit ? 0.0f : lr, w.sg[k] = hit ? 0.0f : lg, w.sb[k] = hit ? 0.0f : lb;
   }
 }
-
-}  // namespace
-
-DiskPoint disk_point(std::uint64_t c) {
-  constexpr std::uint64_t step = PathRandom::kStep;
-  const float u1 = 2.0f * PathRandom::at(c + step) - 1.0f;
-  const float v1 = 2.0f * PathRandom::at(c + 2 * step) - 1.0f;
-  const float u2 = 2.0f * PathRandom::at(c + 3 * step) - 1.0f;
-  const float v2 = 2.0f * PathRandom::at(c + 4 * step) - 1.0f;
-  const float s1 = u1 * u1 + v1 * v1, s2 = u2 * u2 + v2 * v2;
-  const bool first = s1 < 1.0f;
-  DiskPoint p{first ? u1 : u2, first ? v1 : v2, first ? s1 : s2, c + (first ? 2 : 4) * step};
-  while (!(p.s < 1.0f)) {
-    p.u = 2.0f * PathRandom::at(p.counter += step) - 1.0f;
-    p.v = 2.0f * PathRandom::at(p.counter += step) - 1.0f;
-    p.s = p.u * p.u + p.v * p.v;
-  }
-  return p;
-}
-
-namespace {
 
 // Each path's draws, in the order scatter() makes them: a unit vector, or a dielectric's
 // choice between reflection and refraction.
-void draw(Wavefront& w) {
+[[gnu::noinline]] void draw(Wavefront& w) {
   for (std::size_t k = 0; k < w.live; ++k) {
     // A Lambertian and a fuzzed metal draw a unit vector, a dielectric that may refract one
     // uniform.
@@ -154,9 +130,23 @@ void draw(Wavefront& w) {
   }
 }
 
+// offset_origin(): the surface point moved past its error box along the outward normal, to the
+// side the new direction leaves by, each coordinate then stepped away from the point.
+void offset_origin(Wavefront& w, std::size_t k, float dx, float dy, float dz) {
+  const float nx = w.nx[k], ny = w.ny[k], nz = w.nz[k];  // outward
+  const float d = std::fabs(nx) * w.ex[k] + std::fabs(ny) * w.ey[k] + std::fabs(nz) * w.ez[k];
+  const bool inward = dx * nx + dy * ny + dz * nz < 0.0f;
+  const float fx = inward ? -(d * nx) : d * nx;
+  const float fy = inward ? -(d * ny) : d * ny;
+  const float fz = inward ? -(d * nz) : d * nz;
+  w.ox[k] = away(w.px[k] + fx, fx);
+  w.oy[k] = away(w.py[k] + fy, fy);
+  w.oz[k] = away(w.pz[k] + fz, fz);
+}
+
 // scatter()'s direction and attenuation for every lane, the three materials computed and one
 // selected, and spawn()'s origin of the next ray.
-void scatter_all(Wavefront& w) {
+[[gnu::noinline]] void scatter_all(Wavefront& w) {
   for (std::size_t k = 0; k < w.live; ++k) {
     const float nx = w.onx[k], ny = w.ony[k], nz = w.onz[k];
     const float ux = w.ux[k], uy = w.uy[k], uz = w.uz[k];
@@ -194,34 +184,19 @@ void scatter_all(Wavefront& w) {
     const float dy = kind == kLambertian ? (near_zero ? ny : ly) : (kind == kMetal ? my : gy);
     const float dz = kind == kLambertian ? (near_zero ? nz : lz) : (kind == kMetal ? mz : gz);
     w.dx[k] = dx, w.dy[k] = dy, w.dz[k] = dz;
+    offset_origin(w, k, dx, dy, dz);
     w.alive[k] = w.found[k] & (1 - absorbed);
     w.tr[k] = w.tr[k] * w.ar[k], w.tg[k] = w.tg[k] * w.ag[k], w.tb[k] = w.tb[k] * w.ab[k];
   }
 }
 
-// offset_origin(): the surface point moved past its error box along the outward normal, to the
-// side the new direction leaves by, each coordinate then stepped away from the point.
-void offset_origins(Wavefront& w) {
-  for (std::size_t k = 0; k < w.live; ++k) {
-    const float nx = w.nx[k], ny = w.ny[k], nz = w.nz[k];  // outward
-    const float d = std::fabs(nx) * w.ex[k] + std::fabs(ny) * w.ey[k] + std::fabs(nz) * w.ez[k];
-    const bool inward = w.dx[k] * nx + w.dy[k] * ny + w.dz[k] * nz < 0.0f;
-    const float fx = inward ? -(d * nx) : d * nx;
-    const float fy = inward ? -(d * ny) : d * ny;
-    const float fz = inward ? -(d * nz) : d * nz;
-    w.ox[k] = away(w.px[k] + fx, fx);
-    w.oy[k] = away(w.py[k] + fy, fy);
-    w.oz[k] = away(w.pz[k] + fz, fz);
-  }
-}
-
 // Misses hand their light to their pixel; the paths still going move to the front, their next
 // rays into the kernel's array. Written for every lane, kept only for the live ones: no branch.
-void compact(Wavefront& w, Vec3* radiance) {
+[[gnu::noinline]] void compact(Wavefront& w, Vec3* radiance) {
   std::size_t kept = 0;
   for (std::size_t k = 0; k < w.live; ++k) {
     const std::uint16_t s = w.slot[k];
-    if (!w.found[k]) radiance[s] += Vec3{w.sr[k], w.sg[k], w.sb[k]};
+    radiance[s] += Vec3{w.sr[k], w.sg[k], w.sb[k]};
     w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
     w.tr[kept] = w.tr[k], w.tg[kept] = w.tg[k], w.tb[kept] = w.tb[k];
     w.counter[kept] = w.counter[k];
@@ -259,10 +234,8 @@ ShadingTable::ShadingTable(const Scene& scene) {
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance) {
   gather(w, table);
   surfaces(w, sky);
-  orient(w);
   draw(w);
   scatter_all(w);
-  offset_origins(w);
   compact(w, radiance);
 }
 

@@ -56,7 +56,7 @@ struct Wavefront {
   // One bounce's scratch, written and read by shade().
   alignas(64) Lanes<float> ox, oy, oz, dx, dy, dz, t;  // the ray, then the next one
   alignas(64) Lanes<float> cx, cy, cz, radius, ex, ey, ez, ar, ag, ab, fuzz, ior;
-  alignas(64) Lanes<std::int32_t> kind, found, front, alive;
+  alignas(64) Lanes<std::int32_t> kind, found, alive;
   alignas(64) Lanes<float> px, py, pz, nx, ny, nz;  // surface point and outward normal
   alignas(64) Lanes<float> onx, ony, onz;           // the normal against the incoming ray
   alignas(64) Lanes<float> ux, uy, uz;              // the unit incoming direction
@@ -73,7 +73,22 @@ struct DiskPoint {
   float u, v, s;
   std::uint64_t counter;
 };
-DiskPoint disk_point(std::uint64_t counter);
+inline DiskPoint disk_point(std::uint64_t c) {
+  constexpr std::uint64_t step = PathRandom::kStep;
+  const float u1 = 2.0f * PathRandom::at(c + step) - 1.0f;
+  const float v1 = 2.0f * PathRandom::at(c + 2 * step) - 1.0f;
+  const float u2 = 2.0f * PathRandom::at(c + 3 * step) - 1.0f;
+  const float v2 = 2.0f * PathRandom::at(c + 4 * step) - 1.0f;
+  const float s1 = u1 * u1 + v1 * v1, s2 = u2 * u2 + v2 * v2;
+  const bool first = s1 < 1.0f;
+  DiskPoint p{first ? u1 : u2, first ? v1 : v2, first ? s1 : s2, c + (first ? 2 : 4) * step};
+  while (!(p.s < 1.0f)) {
+    p.u = 2.0f * PathRandom::at(p.counter += step) - 1.0f;
+    p.v = 2.0f * PathRandom::at(p.counter += step) - 1.0f;
+    p.s = p.u * p.u + p.v * p.v;
+  }
+  return p;
+}
 
 /// Shades the hits of the wavefront's live paths: a miss adds its sky light to
 /// radiance[slot]; a hit scatters by its sphere's material and, unless absorbed, stays live with
