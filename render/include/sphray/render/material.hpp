@@ -43,7 +43,9 @@ struct Sky {
 class PathRandom {
  public:
   PathRandom() = default;
-  PathRandom(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample);
+  PathRandom(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample)
+      : state_(
+            mix(mix(mix(seed + 0x632be59bd9b4e019ull) ^ pixel) ^ (std::uint64_t{sample} << 32))) {}
   /// Uniform in [0, 1), 24 bits, exact in float.
   float uniform() {
     state_ += kStep;
