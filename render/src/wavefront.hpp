@@ -66,14 +66,15 @@ struct Wavefront {
 };
 
 /// The first point (u, v) of the unit disk, u^2 + v^2 = s < 1, that PathRandom::unit_vector and
-/// in_unit_disk would accept drawing on from counter, and the counter past it. The two first
-/// candidates are drawn whether needed or not (no branch to mispredict); a loop takes the 4.6%
-/// of draws that reject both.
+/// in_unit_disk would accept drawing on from a path's counter, and the counter past it.
 struct DiskPoint {
   float u, v, s;
   std::uint64_t counter;
 };
-inline DiskPoint disk_point(std::uint64_t c) {
+
+/// The first of the two first candidates that lies in the disk, drawn whether needed or not (no
+/// branch to mispredict), or the second with s >= 1 when both miss the disk.
+inline DiskPoint disk_candidates(std::uint64_t c) {
   constexpr std::uint64_t step = PathRandom::kStep;
   const float u1 = 2.0f * PathRandom::at(c + step) - 1.0f;
   const float v1 = 2.0f * PathRandom::at(c + 2 * step) - 1.0f;
@@ -81,13 +82,21 @@ inline DiskPoint disk_point(std::uint64_t c) {
   const float v2 = 2.0f * PathRandom::at(c + 4 * step) - 1.0f;
   const float s1 = u1 * u1 + v1 * v1, s2 = u2 * u2 + v2 * v2;
   const bool first = s1 < 1.0f;
-  DiskPoint p{first ? u1 : u2, first ? v1 : v2, first ? s1 : s2, c + (first ? 2 : 4) * step};
+  return {first ? u1 : u2, first ? v1 : v2, first ? s1 : s2, c + (first ? 2 : 4) * step};
+}
+
+/// Draws on past rejected candidates p until a pair lies in the disk (4.6% of the draws).
+inline DiskPoint disk_rejected(DiskPoint p) {
   while (!(p.s < 1.0f)) {
-    p.u = 2.0f * PathRandom::at(p.counter += step) - 1.0f;
-    p.v = 2.0f * PathRandom::at(p.counter += step) - 1.0f;
+    p.u = 2.0f * PathRandom::at(p.counter += PathRandom::kStep) - 1.0f;
+    p.v = 2.0f * PathRandom::at(p.counter += PathRandom::kStep) - 1.0f;
     p.s = p.u * p.u + p.v * p.v;
   }
   return p;
+}
+
+inline DiskPoint disk_point(std::uint64_t c) {
+  return disk_rejected(disk_candidates(c));
 }
 
 /// Shades the hits of the wavefront's live paths: a miss adds its sky light to
