@@ -37,7 +37,7 @@ float away(float x, float sign) {
 }
 
 // Each live path's ray, hit and sphere, one array per quantity.
-[[gnu::noinline]] void gather(Wavefront& w, const ShadingTable& table) {
+void gather(Wavefront& w, const ShadingTable& table) {
   for (std::size_t k = 0; k < w.live; ++k) {
     const Ray& ray = w.rays[k];
     w.ox[k] = ray.origin.x, w.oy[k] = ray.origin.y, w.oz[k] = ray.origin.z;
@@ -54,7 +54,7 @@ float away(float x, float sign) {
 
 // sphray::surface() for every lane, the unit incoming direction, the normal against it, and the
 // sky light of a miss.
-[[gnu::noinline]] void surfaces(Wavefront& w, const Sky& sky) {
+void surfaces(Wavefront& w, const Sky& sky) {
   const Vec3 horizon = sky.horizon, zenith = sky.zenith;  // no aliasing the lanes: vectorised
   for (std::size_t k = 0; k < w.live; ++k) {
     const float px = w.ox[k] + w.t[k] * w.dx[k];
@@ -117,7 +117,7 @@ void choose_reflection(Wavefront& w, std::size_t k) {
 // Each path's draws, in the order scatter() makes them: a Lambertian and a fuzzed metal draw a
 // unit vector, a dielectric that may refract a uniform. A branch per material: drawing every
 // lane's candidates and selecting measured slower (the draws cost more than the mispredictions).
-[[gnu::noinline]] void draw(Wavefront& w) {
+void draw(Wavefront& w) {
   for (std::size_t k = 0; k < w.live; ++k) {
     const std::int32_t kind = w.kind[k];
     w.reflects[k] = 0;
@@ -150,7 +150,7 @@ void offset_origin(Wavefront& w, std::size_t k, float dx, float dy, float dz) {
 
 // scatter()'s direction and attenuation for every lane, the three materials computed and one
 // selected, and spawn()'s origin of the next ray.
-[[gnu::noinline]] void scatter_all(Wavefront& w) {
+void scatter_all(Wavefront& w) {
   for (std::size_t k = 0; k < w.live; ++k) {
     const float nx = w.onx[k], ny = w.ony[k], nz = w.onz[k];
     const float ux = w.ux[k], uy = w.uy[k], uz = w.uz[k];
@@ -196,7 +196,7 @@ void offset_origin(Wavefront& w, std::size_t k, float dx, float dy, float dz) {
 
 // Misses hand their light to their pixel; the paths still going move to the front, their next
 // rays into the kernel's array. Written for every lane, kept only for the live ones: no branch.
-[[gnu::noinline]] void compact(Wavefront& w, Vec3* radiance) {
+void compact(Wavefront& w, Vec3* radiance) {
   std::size_t kept = 0;
   for (std::size_t k = 0; k < w.live; ++k) {
     const std::uint16_t s = w.slot[k];

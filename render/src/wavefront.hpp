@@ -1,10 +1,10 @@
 // The path tracer's wavefront: a tile's live paths as one array per quantity, and their shading
 // (sphray::surface, scatter and sphray::spawn of material.hpp and sphray/query.hpp, for a whole
 // wavefront) in passes over those arrays. The float passes are plain loops without calls or
-// branches, which GCC vectorises at the baseline target; the random draws are drawn ahead of
-// the paths and each path keeps only those it used. Every path gets the same float operations
-// and the same draws in the same order as the one-path functions, so the images are the same
-// bit for bit (tests/render/wavefront_test.cpp compares them lane by lane).
+// branches, which GCC vectorises at the baseline target; the random draws stay one path at a
+// time, from each path's counter. Every path gets the same float operations and the same draws
+// in the same order as the one-path functions, so the images are the same bit for bit
+// (tests/render/wavefront_test.cpp compares them lane by lane).
 #pragma once
 
 #include <array>
@@ -66,37 +66,21 @@ struct Wavefront {
 };
 
 /// The first point (u, v) of the unit disk, u^2 + v^2 = s < 1, that PathRandom::unit_vector and
-/// in_unit_disk would accept drawing on from a path's counter, and the counter past it.
+/// in_unit_disk accept drawing on from a path's counter, and the counter past it. (Drawing the
+/// first two candidates ahead and selecting, without the loop's branch, measured no faster.)
 struct DiskPoint {
   float u, v, s;
   std::uint64_t counter;
 };
 
-/// The first of the two first candidates that lies in the disk, drawn whether needed or not (no
-/// branch to mispredict), or the second with s >= 1 when both miss the disk.
-inline DiskPoint disk_candidates(std::uint64_t c) {
-  constexpr std::uint64_t step = PathRandom::kStep;
-  const float u1 = 2.0f * PathRandom::at(c + step) - 1.0f;
-  const float v1 = 2.0f * PathRandom::at(c + 2 * step) - 1.0f;
-  const float u2 = 2.0f * PathRandom::at(c + 3 * step) - 1.0f;
-  const float v2 = 2.0f * PathRandom::at(c + 4 * step) - 1.0f;
-  const float s1 = u1 * u1 + v1 * v1, s2 = u2 * u2 + v2 * v2;
-  const bool first = s1 < 1.0f;
-  return {first ? u1 : u2, first ? v1 : v2, first ? s1 : s2, c + (first ? 2 : 4) * step};
-}
-
-/// Draws on past rejected candidates p until a pair lies in the disk (4.6% of the draws).
-inline DiskPoint disk_rejected(DiskPoint p) {
+inline DiskPoint disk_point(std::uint64_t counter) {
+  DiskPoint p{0.0f, 0.0f, 1.0f, counter};
   while (!(p.s < 1.0f)) {
     p.u = 2.0f * PathRandom::at(p.counter += PathRandom::kStep) - 1.0f;
     p.v = 2.0f * PathRandom::at(p.counter += PathRandom::kStep) - 1.0f;
     p.s = p.u * p.u + p.v * p.v;
   }
   return p;
-}
-
-inline DiskPoint disk_point(std::uint64_t c) {
-  return disk_rejected(disk_candidates(c));
 }
 
 /// Shades the hits of the wavefront's live paths: a miss adds its sky light to

@@ -52,8 +52,8 @@ class PathRandom {
     return at(state_);
   }
   /// The counter behind the draws: the k-th draw from here (k = 1, 2, ...) is
-  /// at(counter() + k * kStep), so the path tracer's wavefront draws ahead of its paths and keeps
-  /// the counter of each path's last used draw, the same draws in the same order.
+  /// at(counter() + k * kStep). The path tracer's wavefront keeps each path's counter in an array
+  /// of integers and draws from it, the same draws in the same order.
   static constexpr std::uint64_t kStep = 0x9e3779b97f4a7c15ull;
   std::uint64_t counter() const { return state_; }
   static float at(std::uint64_t counter) {
