@@ -98,8 +98,6 @@ void surfaces(Wavefront& w, const Sky& sky) {
   }
 }
 
-// Each path's draws, in the order scatter() makes them: a unit vector, or a dielectric's
-// choice between reflection and refraction.
 // A dielectric's choice between reflection and refraction, drawn only where it may refract
 // (scatter()'s dielectric: a matched index is no interface, and takes no draw).
 void choose_reflection(Wavefront& w, std::size_t k) {
@@ -116,7 +114,8 @@ void choose_reflection(Wavefront& w, std::size_t k) {
 
 // Each path's draws, in the order scatter() makes them: a Lambertian and a fuzzed metal draw a
 // unit vector, a dielectric that may refract a uniform. A branch per material: drawing every
-// lane's candidates and selecting measured slower (the draws cost more than the mispredictions).
+// lane's candidates and selecting measured slower (the draws cost more than the mispredictions),
+// and listing the lanes by what they draw first measured no faster.
 void draw(Wavefront& w) {
   for (std::size_t k = 0; k < w.live; ++k) {
     const std::int32_t kind = w.kind[k];
