@@ -11,7 +11,9 @@ constexpr auto kLambertian = static_cast<std::int32_t>(MaterialKind::lambertian)
 constexpr auto kMetal = static_cast<std::int32_t>(MaterialKind::metal);
 constexpr auto kDielectric = static_cast<std::int32_t>(MaterialKind::dielectric);
 
-// The kernel's surface error bound (kernel/src/surface/surface.cpp): Higham's gamma(16).
+// The kernel's surface error bound (kernel/src/surface/surface.cpp): Higham's gamma(16). This
+// file repeats surface() and offset_origin() lane by lane; tests/render/wavefront_test.cpp
+// holds them to the kernel's, bit for bit.
 constexpr float kGamma16 = 16.0f * 0x1p-24f / (1.0f - 16.0f * 0x1p-24f);
 
 bool finite(float x) {

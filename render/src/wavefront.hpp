@@ -19,7 +19,8 @@ namespace sphray::render {
 
 inline constexpr std::size_t kWavefront = static_cast<std::size_t>(kTileSize) * kTileSize;
 
-/// What shading reads of one sphere, in one place so that a hit gathers it with one load.
+/// What shading reads of one sphere, side by side (52 bytes): a hit's gather touches one or two
+/// cache lines rather than one per quantity.
 struct SphereShading {
   float cx, cy, cz, radius;
   float ex, ey, ez;  // surface()'s error bound
@@ -40,13 +41,14 @@ class ShadingTable {
   std::vector<SphereShading> rows_;
 };
 
-// One cache line more than the lanes: arrays 1 KiB apart put a lane's values of every fourth
-// array in the same set of a 4 KiB-way L1 cache, and a pass reads and writes some 30 of them.
+// One cache line more than the lanes: with arrays 1 KiB apart, lane k of every fourth array lies
+// a multiple of 4 KiB away, in the same set of the L1 cache, and a pass touches some 30 arrays.
 template <class T>
 using Lanes = std::array<T, kWavefront + 64 / sizeof(T)>;
 
 /// A tile's paths: rays and hits for the kernel's stream call, the rest one array per quantity.
-/// The live paths are packed at the front, in pixel order.
+/// The live paths are packed at the front, in pixel order. About 60 KiB: the tracer keeps one on
+/// its thread's stack per tile and sample.
 struct Wavefront {
   std::array<Ray, kWavefront> rays;
   std::array<Hit, kWavefront> hits;
