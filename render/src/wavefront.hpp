@@ -47,7 +47,7 @@ template <class T>
 using Lanes = std::array<T, kWavefront + 64 / sizeof(T)>;
 
 /// A tile's paths: rays and hits for the kernel's stream call, the rest one array per quantity.
-/// The live paths are packed at the front, in pixel order. About 60 KiB: the tracer keeps one on
+/// The live paths are packed at the front, in pixel order. 63 KiB: the tracer keeps one on
 /// its thread's stack per tile and sample.
 struct Wavefront {
   std::array<Ray, kWavefront> rays;
