@@ -64,13 +64,4 @@ Camera::Camera(const CameraSpec& spec, int width, int height) : width_(width), h
   has_defocus_ = lens_radius > 0.0f;
 }
 
-Ray Camera::ray(float px, float py, float lx, float ly) const {
-  const Ray pinhole = ray(px, py);
-  if (!has_defocus_) return pinhole;
-  // The pinhole ray reaches the viewport, at distance 1 along the view direction, at t = 1:
-  // the plane in focus at t = focus_dist.
-  const Vec3 offset = lx * lens_u_ + ly * lens_v_;
-  return {origin_ + offset, focus_dist_ * pinhole.dir - offset};
-}
-
 }  // namespace sphray::render

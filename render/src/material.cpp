@@ -54,9 +54,6 @@ std::optional<MaterialKind> parse_material_kind(std::string_view name) {
   return std::nullopt;
 }
 
-PathRandom::PathRandom(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample)
-    : state_(mix(mix(mix(seed + 0x632be59bd9b4e019ull) ^ pixel) ^ (std::uint64_t{sample} << 32))) {}
-
 Vec3 PathRandom::unit_vector() {
   // Marsaglia (1972): (u, v) uniform in the unit disk by rejection (accepted with probability
   // pi/4), s = u^2 + v^2, then (2u sqrt(1 - s), 2v sqrt(1 - s), 1 - 2s) is uniform on the

@@ -14,6 +14,7 @@
 
 #include "scene_queries.hpp"
 #include "sphray/render/camera.hpp"
+#include "wavefront.hpp"
 
 namespace sphray::render {
 namespace {
@@ -81,58 +82,27 @@ class TileTracer {
  public:
   TileTracer(const Scene& scene, const Camera& camera, const RayQueries& queries,
              const RenderOptions& options)
-      : scene_(scene),
-        view_(scene.spheres.view()),
-        camera_(camera),
-        queries_(queries),
-        options_(options) {}
+      : scene_(scene), camera_(camera), queries_(queries), options_(options), table_(scene) {}
 
   void trace(const Tile& tile, std::uint32_t sample, Vec3* sums, Counters& counters,
              const Recorder* recorder) const {
     const auto tile_start = Clock::now();
-    std::array<Ray, kTilePixels> rays;
-    std::array<Hit, kTilePixels> hits;
-    std::array<Vec3, kTilePixels> throughput;
-    std::array<PathRandom, kTilePixels> random;   // each path's own stream, drawn bounce by bounce
-    std::array<std::uint16_t, kTilePixels> slot;  // the path's pixel within the tile
+    Wavefront w;
     std::array<Vec3, kTilePixels> radiance{};
-    const std::size_t n = tile.pixels();
-    for (std::size_t i = 0; i < n; ++i) {
-      const int x = tile.x0 + static_cast<int>(i) % tile.width;
-      const int y = tile.y0 + static_cast<int>(i) / tile.width;
-      random[i] = PathRandom(options_.seed, pixel_index(x, y), sample);
-      rays[i] = camera_ray(x, y, random[i]);
-      throughput[i] = {1, 1, 1};
-      slot[i] = static_cast<std::uint16_t>(i);
-    }
-    std::size_t live = n;
+    start_paths(tile, sample, w);
+    const std::size_t n = w.live;
     std::int64_t kernel_ns = 0;
     std::uint64_t bounce_rays = 0;
-    for (int bounce = 0; bounce < options_.max_depth && live > 0; ++bounce) {
+    for (int bounce = 0; bounce < options_.max_depth && w.live > 0; ++bounce) {
+      const auto rays = std::span(w.rays.data(), w.live);
       const auto kernel_start = Clock::now();
-      queries_.intersect(std::span(rays.data(), live), std::span(hits.data(), live));
+      queries_.intersect(rays, std::span(w.hits.data(), w.live));
       kernel_ns +=
           std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - kernel_start).count();
-      if (recorder != nullptr) (*recorder)(bounce, std::span(rays.data(), live));
-      if (bounce > 0) bounce_rays += live;
-      std::size_t kept = 0;
-      for (std::size_t k = 0; k < live; ++k) {
-        const Ray& ray = rays[k];
-        const std::uint16_t s = slot[k];
-        if (!hits[k].found()) {
-          radiance[s] += throughput[k] * scene_.sky.radiance(ray.dir);
-          continue;
-        }
-        const Surface surface = sphray::surface(view_, ray, hits[k]);
-        const auto next = scatter(material_of(scene_, hits[k].id), ray.dir, surface, random[k]);
-        if (!next) continue;  // absorbed
-        throughput[kept] = throughput[k] * next->attenuation;
-        random[kept] = random[k];
-        rays[kept] = spawn(surface, next->direction);
-        slot[kept] = s;
-        ++kept;
-      }
-      live = kept;  // paths still going after max_depth rays carry no light, as in the book
+      if (recorder != nullptr) (*recorder)(bounce, rays);
+      if (bounce > 0) bounce_rays += w.live;
+      // Paths still going after max_depth rays carry no light, as in the book.
+      shade(w, table_, scene_.sky, radiance.data());
     }
     for (std::size_t i = 0; i < n; ++i)
       sums[i] += radiance[i];
@@ -149,21 +119,35 @@ class TileTracer {
            static_cast<std::uint64_t>(x);
   }
 
-  // A point drawn uniformly in the pixel, as the book's sample_square does, and one on the
-  // lens when the camera has defocus blur: the path's first draws.
-  Ray camera_ray(int x, int y, PathRandom& random) const {
-    const float px = static_cast<float>(x) + random.uniform();
-    const float py = static_cast<float>(y) + random.uniform();
-    if (!camera_.has_defocus()) return camera_.ray(px, py);
-    const Vec3 lens = random.in_unit_disk();
-    return camera_.ray(px, py, lens.x, lens.y);
+  // Every pixel's camera ray: a point drawn uniformly in the pixel, as the book's sample_square
+  // does, and one on the lens when the camera has defocus blur, the path's first draws.
+  void start_paths(const Tile& tile, std::uint32_t sample, Wavefront& w) const {
+    w.live = 0;
+    for (int y = tile.y0; y < tile.y0 + tile.height; ++y) {
+      for (int x = tile.x0; x < tile.x0 + tile.width; ++x) {
+        const std::size_t i = w.live++;
+        PathRandom random(options_.seed, pixel_index(x, y), sample);
+        const float px = static_cast<float>(x) + random.uniform();
+        const float py = static_cast<float>(y) + random.uniform();
+        w.counter[i] = random.counter();
+        if (camera_.has_defocus()) {
+          const DiskPoint lens = disk_point(w.counter[i]);
+          w.counter[i] = lens.counter;
+          w.rays[i] = camera_.ray(px, py, lens.u, lens.v);
+        } else {
+          w.rays[i] = camera_.ray(px, py);
+        }
+        w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
+        w.slot[i] = static_cast<std::uint16_t>(i);
+      }
+    }
   }
 
   const Scene& scene_;
-  SphereView view_;
   const Camera& camera_;
   const RayQueries& queries_;
   const RenderOptions& options_;
+  ShadingTable table_;
 };
 
 double seconds_since(Clock::time_point start) {

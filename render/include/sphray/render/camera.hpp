@@ -23,7 +23,16 @@ class Camera {
   /// Path mode's ray through image point (px, py) from lens point (lx, ly) of the unit disk: it
   /// leaves lookfrom moved across the lens and passes through the point where ray(px, py) meets
   /// the plane in focus (the book's defocus blur). Without defocus it is ray(px, py).
-  Ray ray(float px, float py, float lx, float ly) const;
+  /// Inline: the path tracer makes one per pixel and sample, and a call returns the Ray through
+  /// memory.
+  Ray ray(float px, float py, float lx, float ly) const {
+    const Ray pinhole = ray(px, py);
+    if (!has_defocus_) return pinhole;
+    // The pinhole ray reaches the viewport, at distance 1 along the view direction, at t = 1:
+    // the plane in focus at t = focus_dist.
+    const Vec3 offset = lx * lens_u_ + ly * lens_v_;
+    return {origin_ + offset, focus_dist_ * pinhole.dir - offset};
+  }
 
   bool has_defocus() const { return has_defocus_; }
 

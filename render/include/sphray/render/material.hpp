@@ -43,11 +43,21 @@ struct Sky {
 class PathRandom {
  public:
   PathRandom() = default;
-  PathRandom(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample);
+  PathRandom(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample)
+      : state_(
+            mix(mix(mix(seed + 0x632be59bd9b4e019ull) ^ pixel) ^ (std::uint64_t{sample} << 32))) {}
   /// Uniform in [0, 1), 24 bits, exact in float.
   float uniform() {
-    state_ += 0x9e3779b97f4a7c15ull;
-    return static_cast<float>(mix(state_) >> 40) * 0x1p-24f;
+    state_ += kStep;
+    return at(state_);
+  }
+  /// The counter behind the draws: the k-th draw from here (k = 1, 2, ...) is
+  /// at(counter() + k * kStep). The path tracer's wavefront keeps each path's counter in an array
+  /// of integers and draws from it, the same draws in the same order.
+  static constexpr std::uint64_t kStep = 0x9e3779b97f4a7c15ull;
+  std::uint64_t counter() const { return state_; }
+  static float at(std::uint64_t counter) {
+    return static_cast<float>(mix(counter) >> 40) * 0x1p-24f;
   }
   /// Uniform on the unit sphere.
   Vec3 unit_vector();

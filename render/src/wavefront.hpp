@@ -1,0 +1,95 @@
+// The path tracer's wavefront: a tile's live paths as one array per quantity, and their shading
+// (sphray::surface, scatter and sphray::spawn of material.hpp and sphray/query.hpp, for a whole
+// wavefront) in passes over those arrays. The float passes are plain loops without calls or
+// branches, which GCC vectorises at the baseline target; the random draws stay one path at a
+// time, from each path's counter. Every path gets the same float operations and the same draws
+// in the same order as the one-path functions, so the images are the same bit for bit
+// (tests/render/wavefront_test.cpp compares them lane by lane).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "sphray/render/material.hpp"
+#include "sphray/render/renderer.hpp"
+#include "sphray/render/scene.hpp"
+
+namespace sphray::render {
+
+inline constexpr std::size_t kWavefront = static_cast<std::size_t>(kTileSize) * kTileSize;
+
+/// What shading reads of one sphere, side by side (52 bytes): a hit's gather touches one or two
+/// cache lines rather than one per quantity.
+struct SphereShading {
+  float cx, cy, cz, radius;
+  float ex, ey, ez;  // surface()'s error bound
+  float ar, ag, ab;  // the attenuation: the albedo, 1 for a dielectric (as scatter() returns)
+  float fuzz, ior;
+  std::int32_t kind;  // MaterialKind
+};
+
+/// SphereShading by sphere id, and one placeholder row past the spheres that misses read.
+class ShadingTable {
+ public:
+  explicit ShadingTable(const Scene& scene);
+  const SphereShading& row(std::uint32_t id) const {
+    return rows_[id < rows_.size() - 1 ? id : rows_.size() - 1];
+  }
+
+ private:
+  std::vector<SphereShading> rows_;
+};
+
+// One cache line more than the lanes: with arrays 1 KiB apart, lane k of every fourth array lies
+// a multiple of 4 KiB away, in the same set of the L1 cache, and a pass touches some 30 arrays.
+template <class T>
+using Lanes = std::array<T, kWavefront + 64 / sizeof(T)>;
+
+/// A tile's paths: rays and hits for the kernel's stream call, the rest one array per quantity.
+/// The live paths are packed at the front, in pixel order. 63 KiB: the tracer keeps one on
+/// its thread's stack per tile and sample.
+struct Wavefront {
+  std::array<Ray, kWavefront> rays;
+  std::array<Hit, kWavefront> hits;
+  alignas(64) Lanes<float> tr, tg, tb;  // throughput
+  Lanes<std::uint64_t> counter;         // each path's PathRandom counter
+  Lanes<std::uint16_t> slot;            // the path's pixel within the tile
+  std::size_t live = 0;
+
+  // One bounce's scratch, written and read by shade().
+  alignas(64) Lanes<float> ox, oy, oz, dx, dy, dz, t;  // the ray, then the next one
+  alignas(64) Lanes<float> cx, cy, cz, radius, ex, ey, ez, ar, ag, ab, fuzz, ior;
+  alignas(64) Lanes<std::int32_t> kind, found, alive;
+  alignas(64) Lanes<float> px, py, pz, nx, ny, nz;  // surface point and outward normal
+  alignas(64) Lanes<float> onx, ony, onz;           // the normal against the incoming ray
+  alignas(64) Lanes<float> ux, uy, uz;              // the unit incoming direction
+  alignas(64) Lanes<float> sr, sg, sb;              // sky light a miss brings
+  alignas(64) Lanes<float> eta, cosine, vx, vy, vz;
+  alignas(64) Lanes<std::int32_t> reflects;
+};
+
+/// The first point (u, v) of the unit disk, u^2 + v^2 = s < 1, that PathRandom::unit_vector and
+/// in_unit_disk accept drawing on from a path's counter, and the counter past it. (Drawing the
+/// first two candidates ahead and selecting, without the loop's branch, measured no faster.)
+struct DiskPoint {
+  float u, v, s;
+  std::uint64_t counter;
+};
+
+inline DiskPoint disk_point(std::uint64_t counter) {
+  DiskPoint p{0.0f, 0.0f, 1.0f, counter};
+  while (!(p.s < 1.0f)) {
+    p.u = 2.0f * PathRandom::at(p.counter += PathRandom::kStep) - 1.0f;
+    p.v = 2.0f * PathRandom::at(p.counter += PathRandom::kStep) - 1.0f;
+    p.s = p.u * p.u + p.v * p.v;
+  }
+  return p;
+}
+
+/// Shades the hits of the wavefront's live paths: a miss adds its sky light to
+/// radiance[slot]; a hit scatters by its sphere's material and, unless absorbed, stays live with
+/// its next ray (spawned as sphray::spawn does) and throughput. Packs the live paths again.
+void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance);
+
+}  // namespace sphray::render

@@ -1,0 +1,139 @@
+// The path tracer's wavefront shading (render/src/wavefront.hpp) against the one-path functions it
+// stands for: sphray::surface, scatter and sphray::spawn, Sky::radiance and PathRandom. Every
+// bounce of every path must agree bit for bit (next ray, throughput, random counter, the sky
+// light a miss brings), so that the images stay what the one-path renderer made.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+#include "sphray/render/camera.hpp"
+#include "sphray/render/renderer.hpp"
+#include "wavefront.hpp"
+
+namespace sphray::render {
+namespace {
+
+std::uint32_t bits(float x) {
+  return std::bit_cast<std::uint32_t>(x);
+}
+
+void expect_same(Vec3 expected, Vec3 actual, const char* what, std::size_t lane) {
+  EXPECT_EQ(bits(expected.x), bits(actual.x)) << what << ", lane " << lane;
+  EXPECT_EQ(bits(expected.y), bits(actual.y)) << what << ", lane " << lane;
+  EXPECT_EQ(bits(expected.z), bits(actual.z)) << what << ", lane " << lane;
+}
+
+// One path as the one-path renderer keeps it.
+struct Path {
+  Ray ray;
+  Vec3 throughput;
+  PathRandom random;
+  std::uint16_t slot;
+};
+
+// Advances the paths one bounce with the one-path functions, as the renderer did before the
+// wavefront: misses add sky light, hits scatter and spawn, absorbed paths leave.
+std::vector<Path> reference_bounce(const Scene& scene, const std::vector<Path>& paths,
+                                   std::vector<Vec3>& radiance) {
+  const SphereView view = scene.spheres.view();
+  std::vector<Path> next;
+  for (const Path& path : paths) {
+    const Hit hit = intersect(view, path.ray);
+    if (!hit.found()) {
+      radiance[path.slot] += path.throughput * scene.sky.radiance(path.ray.dir);
+      continue;
+    }
+    const Surface s = surface(view, path.ray, hit);
+    PathRandom random = path.random;
+    const auto scattered = scatter(material_of(scene, hit.id), path.ray.dir, s, random);
+    if (!scattered) continue;
+    next.push_back({spawn(s, scattered->direction), path.throughput * scattered->attenuation,
+                    random, path.slot});
+  }
+  return next;
+}
+
+// Camera rays through random points of the image, with random throughputs: many bounces of them
+// meet every material from both sides.
+std::vector<Path> start(const Scene& scene, std::uint64_t seed) {
+  const Camera camera(scene.camera, 160, 90);
+  std::vector<Path> paths;
+  for (std::uint16_t i = 0; i < kWavefront; ++i) {
+    PathRandom random(seed, i, 7);
+    const float px = 160.0f * random.uniform(), py = 90.0f * random.uniform();
+    const Vec3 throughput{random.uniform(), random.uniform(), random.uniform()};
+    paths.push_back({camera.ray(px, py), throughput, random, i});
+  }
+  return paths;
+}
+
+void load(const std::vector<Path>& paths, Wavefront& w) {
+  w.live = paths.size();
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    w.rays[k] = paths[k].ray;
+    w.tr[k] = paths[k].throughput.x, w.tg[k] = paths[k].throughput.y;
+    w.tb[k] = paths[k].throughput.z;
+    w.counter[k] = paths[k].random.counter();
+    w.slot[k] = paths[k].slot;
+  }
+}
+
+void expect_same(const std::vector<Path>& expected, const Wavefront& w) {
+  ASSERT_EQ(expected.size(), w.live);
+  for (std::size_t k = 0; k < w.live; ++k) {
+    expect_same(expected[k].ray.origin, w.rays[k].origin, "origin", k);
+    expect_same(expected[k].ray.dir, w.rays[k].dir, "direction", k);
+    EXPECT_EQ(w.rays[k].tmin, 0.0f);
+    EXPECT_EQ(w.rays[k].tmax, INFINITY);
+    expect_same(expected[k].throughput, {w.tr[k], w.tg[k], w.tb[k]}, "throughput", k);
+    EXPECT_EQ(expected[k].random.counter(), w.counter[k]) << "lane " << k;
+    EXPECT_EQ(expected[k].slot, w.slot[k]) << "lane " << k;
+  }
+}
+
+void expect_bounces_agree(const Scene& scene, std::uint64_t seed) {
+  const ShadingTable table(scene);
+  const SphereView view = scene.spheres.view();
+  std::vector<Path> paths = start(scene, seed);
+  std::vector<Vec3> expected_radiance(kWavefront, Vec3{0, 0, 0});
+  std::vector<Vec3> radiance(kWavefront, Vec3{0, 0, 0});
+  auto w = std::make_unique<Wavefront>();
+  for (int bounce = 0; bounce < 12 && !paths.empty(); ++bounce) {
+    load(paths, *w);
+    intersect(view, std::span(w->rays.data(), w->live), std::span(w->hits.data(), w->live));
+    shade(*w, table, scene.sky, radiance.data());
+    paths = reference_bounce(scene, paths, expected_radiance);
+    SCOPED_TRACE("bounce " + std::to_string(bounce));
+    expect_same(paths, *w);
+    for (std::size_t i = 0; i < kWavefront; ++i)
+      expect_same(expected_radiance[i], radiance[i], "radiance", i);
+    if (testing::Test::HasFailure()) return;
+  }
+}
+
+TEST(Wavefront, MatchesTheOnePathFunctionsOnTheCover) {
+  expect_bounces_agree(make_preset("rtiow-final"), 1);
+  expect_bounces_agree(make_preset("rtiow-final"), 2);
+}
+
+// Every material's corner, spheres of each in turn: a metal without fuzz (no draw), a fuzzed
+// one, glass of index 1.5 and of index 1 (no draw), a Lambertian, under the graded sky.
+TEST(Wavefront, MatchesTheOnePathFunctionsOnEveryMaterial) {
+  Scene scene = make_preset("random:300");
+  const Material kinds[] = {{MaterialKind::metal, {0.9f, 0.8f, 0.7f}, 0.0f, 1.5f},
+                            {MaterialKind::dielectric, {0.5f, 0.5f, 0.5f}, 0.0f, 1.5f},
+                            {MaterialKind::metal, {0.6f, 0.7f, 0.8f}, 0.3f, 1.5f},
+                            {MaterialKind::dielectric, {0.5f, 0.5f, 0.5f}, 0.0f, 1.0f},
+                            {MaterialKind::lambertian, {0.4f, 0.5f, 0.6f}}};
+  scene.materials.clear();
+  for (std::size_t i = 0; i < scene.spheres.size(); ++i)
+    scene.materials.push_back(kinds[i % std::size(kinds)]);
+  expect_bounces_agree(scene, 3);
+  expect_bounces_agree(scene, 4);
+}
+
+}  // namespace
+}  // namespace sphray::render
