@@ -10,6 +10,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "bvh/bvh_data.hpp"
+#include "bvh/line_packet.hpp"
 #include "bvh/node.hpp"
 #include "bvh/packet.hpp"
 #include "bvh/traverse.hpp"
@@ -40,6 +41,56 @@ struct PacketStream {
       extent = hi - lo > extent ? hi - lo : extent;
     }
     return extent;
+  }
+
+  // The largest coordinate magnitude of the tree's box (bvh/line_packet.hpp's margin).
+  static float tree_abs(const BvhData& bvh) {
+    const typename Packet::Node root(bvh.nodes, 0, kWidth);
+    float m = 0.0f;
+    for (int axis = 0; axis < 3; ++axis) {
+      for (std::size_t k = 0; k < kWidth; ++k) {
+        if (!(root.lo(axis, k) <= root.hi(axis, k))) continue;  // an empty lane
+        const float lo = __builtin_fabsf(root.lo(axis, k)), hi = __builtin_fabsf(root.hi(axis, k));
+        m = lo > m ? lo : m;
+        m = hi > m ? hi : m;
+      }
+    }
+    return m;
+  }
+
+  // Rays sharing a direction from scattered origins (bvh/line_packet.hpp): run(p, iv, frame)
+  // traces each packet, single(i) each ray that goes alone, store(r, i) the packet's ray r
+  // back to ray i of the chunk.
+  template <class Run, class Single, class Store>
+  static void lines(const BvhData& bvh, const Ray* rays, std::size_t n, float extent, Run&& run,
+                    Single&& single, Store&& store) {
+    using Line = LinePacket<A>;
+    typename Line::Lines l;
+    const std::uint16_t* order = Line::prepare(rays, n, tree_abs(bvh), l, single);
+    const float limit = Plan::kLineSpan * extent;
+    typename Packet::Rays p;
+    typename Line::ShiftedFrame frame;
+    for (std::size_t begin = 0; begin < l.count; begin += kRays) {
+      const std::size_t count = l.count - begin > kRays ? kRays : l.count - begin;
+      const std::uint16_t* group = order + begin;
+      if (count < Plan::kPacketMinRays || !Line::tight(l, group, count, limit)) {
+        for (std::size_t r = 0; r < count; ++r)
+          single(group[r]);
+        continue;
+      }
+      p.count = 0;
+      for (std::size_t r = 0; r < count; ++r) {
+        const Ray& ray = rays[group[r]];
+        typename Batch::RaySetup s{};
+        Batch::setup(ray, s);  // true: it passed in prepare
+        Packet::add(p, ray, s, ray.tmax);
+      }
+      Packet::pad(p);
+      const typename Packet::Interval iv = Line::interval(l, group, p, frame);
+      run(p, iv, frame);
+      for (std::size_t r = 0; r < count; ++r)
+        store(r, group[r]);
+    }
   }
 
   static unsigned octant(const Ray& ray) {
@@ -90,6 +141,22 @@ struct PacketStream {
   template <bool kBranchFree, bool kMasked>
   static void intersect(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
     const float extent = tree_extent(bvh);
+    if (Plan::lines(rays, n, extent)) {
+      const typename Packet::Rays* done = nullptr;
+      lines(
+          bvh, rays, n, extent,
+          [&](typename Packet::Rays& q, const typename Packet::Interval& iv, const auto& frame) {
+            Packet::template intersect<kBranchFree, kMasked>(bvh, q, iv, frame);
+            done = &q;
+          },
+          [&](std::size_t i) {
+            hits[i] = Tree::template intersect<kBranchFree, kMasked>(bvh, rays[i]);
+          },
+          [&](std::size_t r, std::size_t i) {
+            hits[i] = {done->best[r], done->best_id[r]};
+          });
+      return;
+    }
     typename Packet::Rays p;
     std::uint16_t index[kRays];
     for (std::size_t begin = 0; begin < n; begin += kRays) {
@@ -108,6 +175,18 @@ struct PacketStream {
   template <bool kMasked>
   static void occluded(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n) {
     const float extent = tree_extent(bvh);
+    if (Plan::lines(rays, n, extent)) {
+      const typename Packet::Rays* done = nullptr;
+      lines(
+          bvh, rays, n, extent,
+          [&](typename Packet::Rays& q, const typename Packet::Interval& iv, const auto& frame) {
+            Packet::template occluded<kMasked>(bvh, q, iv, frame);
+            done = &q;
+          },
+          [&](std::size_t i) { blocked[i] = Tree::template occluded<kMasked>(bvh, rays[i]); },
+          [&](std::size_t r, std::size_t i) { blocked[i] = done->best[r] == -__builtin_inff(); });
+      return;
+    }
     typename Packet::Rays p;
     std::uint16_t index[kRays];
     for (std::size_t begin = 0; begin < n; begin += kRays) {
