@@ -39,8 +39,10 @@ struct QueryPlan {
 
   // 2. Where a point of the tree's box lies in kBvhBranchFreeOverlap leaf boxes or more on
   // average, a scattered ray tests several leaves, and the leaf test's branches are coin
-  // tosses: the tree takes the branch-free test (bvh/leaf_test.hpp). random:512 has 1.49,
-  // random:4096 1.80, random:65536 2.09; rtiow-final 1.00 (docs/bvh.md, "Leaves").
+  // tosses: the tree takes the branch-free test (bvh/leaf_test.hpp). random:4096 has 1.80,
+  // random:65536 2.09, rtiow-final 1.00; the small random trees 1.31 (192 spheres, 16 wide) to
+  // 1.49 (512), where the branch-free test is 4-17% faster on incoherent rays and within the
+  // noise on coherent ones: hence 1.25, not 1.5 (docs/bvh.md, "Leaves").
   static bool branch_free_leaves(const BvhData& bvh) {
     return bvh.leaf_overlap >= kBvhBranchFreeOverlap;
   }
