@@ -49,14 +49,16 @@ struct LinePacket {
   static constexpr std::size_t kChunk = Plan::kStreamChunk;
   static_assert(kChunk <= 65536, "positions fit 16 bits");
   static constexpr float kMarginScale = 0x1p-16f;
-  static constexpr unsigned kKeyBits = 10;  // per axis of the plane: a 1024 x 1024 grid
+  // Per axis of the plane: a 256 x 256 grid over the chunk's lines, far finer than a packet's
+  // span (QueryPlan::kLineSpan), and a 16-bit key: two radix passes.
+  static constexpr unsigned kKeyBits = 8;
 
   // The chunk's rays slid onto the plane, by their position in the chunk.
   struct Lines {
     alignas(64) float q[3][kChunk];
     alignas(64) float shift[kChunk];  // -s >= 0: t on the virtual ray minus t on the ray
     std::uint16_t order[2][kChunk];   // the rays that may join packets, then sorted
-    std::uint32_t key[2][kChunk];
+    std::uint16_t key[2][kChunk];
     std::size_t count;  // of order
     unsigned axis;      // the main axis, across which the plane lies
     float margin;
@@ -87,9 +89,8 @@ struct LinePacket {
            (__builtin_signbit(d.z) ? 4u : 0u);
   }
 
-  // Spreads the low 10 bits of v to every other bit.
+  // Spreads the low 8 bits of v to every other bit.
   static std::uint32_t spread(std::uint32_t v) {
-    v = (v | (v << 8)) & 0x00ff00ffu;
     v = (v | (v << 4)) & 0x0f0f0f0fu;
     v = (v | (v << 2)) & 0x33333333u;
     v = (v | (v << 1)) & 0x55555555u;
@@ -109,18 +110,22 @@ struct LinePacket {
     float plane = 0.0f;
     for (std::size_t i = 0; i < n; ++i) {
       const Ray& ray = rays[i];
-      typename Batch::RaySetup s;
-      if (!Batch::setup(ray, s) || !Plan::ahead(ray)) {
+      // What the slide needs (finite origin and direction, a normal main component: ahead);
+      // the rest of SphereLanes::setup's checks come when the packet is filled.
+      const Vec3 &o = ray.origin, &d = ray.dir;
+      const bool finite = o.x - o.x == 0.0f && o.y - o.y == 0.0f && o.z - o.z == 0.0f &&
+                          d.x - d.x == 0.0f && d.y - d.y == 0.0f && d.z - d.z == 0.0f;
+      if (!finite || !Plan::ahead(ray)) {
         single(i);
         continue;
       }
-      const unsigned o = octant(ray.dir);
+      const unsigned side = octant(d);
       if (first_octant == 8) {
-        first_octant = o;
+        first_octant = side;
         l.axis = main_axis(ray.dir);
         plane = ray.origin[static_cast<int>(l.axis)];
       }
-      if (o != first_octant) {
+      if (side != first_octant) {
         single(i);
         continue;
       }
@@ -161,19 +166,21 @@ struct LinePacket {
       const std::size_t i = l.order[0][j];
       const auto ca = static_cast<std::uint32_t>((l.q[a][i] - lo_a) * scale_a);
       const auto cb = static_cast<std::uint32_t>((l.q[b][i] - lo_b) * scale_b);
-      l.key[0][j] = spread(ca < 1023u ? ca : 1023u) | spread(cb < 1023u ? cb : 1023u) << 1;
+      constexpr std::uint32_t kLast = (1u << kKeyBits) - 1u;
+      l.key[0][j] = static_cast<std::uint16_t>(spread(ca < kLast ? ca : kLast) |
+                                               spread(cb < kLast ? cb : kLast) << 1);
     }
     return sort(l);
   }
 
-  // A stable radix sort of l.order by l.key, 7 bits a pass.
+  // A stable radix sort of l.order by l.key, 8 bits a pass.
   static std::uint16_t* sort(Lines& l) {
-    constexpr unsigned kBits = 7, kPasses = (2 * kKeyBits + kBits - 1) / kBits;
+    constexpr unsigned kBits = 8, kPasses = (2 * kKeyBits + kBits - 1) / kBits;
     unsigned from = 0;
     for (unsigned pass = 0; pass < kPasses; ++pass, from ^= 1u) {
       std::uint32_t count[1u << kBits] = {};
       const unsigned shift = pass * kBits;
-      const std::uint32_t* key = l.key[from];
+      const std::uint16_t* key = l.key[from];
       for (std::size_t j = 0; j < l.count; ++j)
         ++count[key[j] >> shift & ((1u << kBits) - 1u)];
       std::uint32_t sum = 0;

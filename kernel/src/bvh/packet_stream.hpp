@@ -78,18 +78,29 @@ struct PacketStream {
           single(group[r]);
         continue;
       }
+      // The rays the contract says miss (prepare checked only what the slide needs) go alone.
+      std::uint16_t members[kRays];
       p.count = 0;
       for (std::size_t r = 0; r < count; ++r) {
         const Ray& ray = rays[group[r]];
-        typename Batch::RaySetup s{};
-        Batch::setup(ray, s);  // true: it passed in prepare
+        typename Batch::RaySetup s;
+        if (!Batch::setup(ray, s)) {
+          single(group[r]);
+          continue;
+        }
+        members[p.count] = group[r];
         Packet::add(p, ray, s, ray.tmax);
       }
+      if (p.count < Plan::kPacketMinRays) {
+        for (std::size_t r = 0; r < p.count; ++r)
+          single(members[r]);
+        continue;
+      }
       Packet::pad(p);
-      const typename Packet::Interval iv = Line::interval(l, group, p, frame);
+      const typename Packet::Interval iv = Line::interval(l, members, p, frame);
       run(p, iv, frame);
-      for (std::size_t r = 0; r < count; ++r)
-        store(r, group[r]);
+      for (std::size_t r = 0; r < p.count; ++r)
+        store(r, members[r]);
     }
   }
 
