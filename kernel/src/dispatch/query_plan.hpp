@@ -137,16 +137,17 @@ struct QueryPlan {
   // 7. Rays that share a direction but start far apart (shadow rays towards one light from a
   // frame's hit points) fail coherent()'s origin test, yet what decides the boxes they meet is
   // their lines: a chunk whose rays but one in 8 at most point within kPacketCosine of its first
-  // ray's, with origins spanning more than kPacketOrigins of the tree, is sorted by where the rays'
-  // lines cross a plane across their main axis, and each kPacketRays of that order whose lines
-  // cross it within kLineSpan of the tree's extent goes as a packet (bvh/line_packet.hpp). Measured
-  // on the sun's shadow rays (docs/performance.md, "Shadow rays towards the sun"): 1/16 leaves 60%
-  // of random:4096's rays alone, 1/4 about 10%, and runs 1.5-1.7x faster than 1/16 on random:4096
-  // and random:65536; with no limit (every group a packet) it loses 10-25% to 1/4. Stops as soon as
-  // too many rays point elsewhere: an incoherent chunk costs a few rays.
+  // ray's, with origins spanning more than kPacketOrigins of the tree, is sorted by where the
+  // rays' lines cross a plane across their main axis, and each kPacketRays of that order whose
+  // lines cross it within kLineSpan of the tree's extent goes as a packet (bvh/line_packet.hpp).
+  // Measured on the sun's shadow rays (docs/bvh.md, "Line packets"): 1/16 leaves 60% of
+  // random:4096's rays alone, 1/4 about 10%, and runs 1.5-1.7x faster than 1/16 on random:4096
+  // and random:65536; with no limit (every group a packet) it loses 10-25% to 1/4. A chunk
+  // whose first kPacketRays rays are coherent() (camera rays: one origin) keeps to 6 at once;
+  // otherwise the test stops as soon as too many rays point elsewhere.
   static constexpr float kLineSpan = 1.0f / 4.0f;
   static bool lines(const Ray* rays, std::size_t n, float tree_extent) {
-    if (n < kPacketRays) return false;
+    if (n < kPacketRays || coherent(rays, kPacketRays, tree_extent)) return false;
     const Vec3& f = rays[0].dir;
     const float ff = f.x * f.x + f.y * f.y + f.z * f.z;
     const std::size_t far_allowed = n / 8;
