@@ -234,8 +234,8 @@ TEST(Packets, SunShadowRaysFromScatteredOriginsGiveTheSingleRayAnswer) {
   }
 }
 
-// The sun's shadow rays above are what the plan sends to line packets; camera rays (one
-// origin) and scattered rays are not.
+// The sun's shadow rays above are what the plan sends to line packets; camera rays (which
+// consecutive packets take) and scattered rays are not.
 TEST(Packets, SunShadowRaysAreLinesForThePlan) {
   using Plan = detail::baseline::QueryPlan;
   std::mt19937 rng(23);
@@ -246,11 +246,19 @@ TEST(Packets, SunShadowRaysAreLinesForThePlan) {
   const auto scattered = scattered_rays(camera.size(), rng);
   const std::size_t n = Plan::kStreamChunk;
   ASSERT_GE(shadows.size(), n);
-  EXPECT_TRUE(Plan::lines(shadows.data(), n, 20.0f));
-  EXPECT_TRUE(Plan::lines(with_odd_rays(shadows).data(), n, 20.0f));
-  EXPECT_FALSE(Plan::lines(camera.data(), n, 20.0f));
-  EXPECT_FALSE(Plan::lines(scattered.data(), n, 20.0f));
-  EXPECT_FALSE(Plan::lines(shadows.data(), Plan::kPacketRays - 1, 20.0f));
+  std::vector<std::uint16_t> all(n);
+  for (std::size_t i = 0; i < n; ++i)
+    all[i] = static_cast<std::uint16_t>(i);
+  // Consecutive groups of shadow rays are not coherent; of camera rays they are.
+  std::size_t coherent = 0;
+  for (std::size_t begin = 0; begin < n; begin += Plan::kPacketRays)
+    coherent += Plan::coherent(&shadows[begin], Plan::kPacketRays, 20.0f);
+  EXPECT_LT(coherent, n / Plan::kPacketRays / 4);
+  EXPECT_TRUE(Plan::lines(shadows.data(), all.data(), n));
+  EXPECT_TRUE(Plan::lines(with_odd_rays(shadows).data(), all.data(), n));
+  EXPECT_FALSE(Plan::lines(camera.data(), all.data(), n));  // directions spread past 14 degrees
+  EXPECT_FALSE(Plan::lines(scattered.data(), all.data(), n));
+  EXPECT_FALSE(Plan::lines(shadows.data(), all.data(), Plan::kPacketRays - 1));
 }
 
 // The camera rays above go through the tree as packets: most groups of kPacketRays

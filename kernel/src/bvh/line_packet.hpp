@@ -97,18 +97,20 @@ struct LinePacket {
     return v;
   }
 
-  // Slides rays[0, n) (n <= kChunk) onto the plane and sorts them, into l. single(i) answers
+  // Slides the rays at positions index[0, n) of rays (n <= kChunk) onto the plane and sorts
+  // them, into l. single(i) answers
   // the rays that may not join a packet: those the contract says miss, those not ahead, those of
   // another octant than the first ray that may. tree_abs: the largest coordinate magnitude of
   // the tree's box. Returns where the sorted order is (l.order[which]).
   template <class Single>
-  static std::uint16_t* prepare(const Ray* rays, std::size_t n, float tree_abs, Lines& l,
-                                Single&& single) {
+  static std::uint16_t* prepare(const Ray* rays, const std::uint16_t* index, std::size_t n,
+                                float tree_abs, Lines& l, Single&& single) {
     unsigned first_octant = 8;
     l.count = 0;
     l.axis = 0;
     float plane = 0.0f;
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < n; ++j) {
+      const std::size_t i = index[j];
       const Ray& ray = rays[i];
       // What the slide needs (finite origin and direction, a normal main component: ahead);
       // the rest of SphereLanes::setup's checks come when the packet is filled.

@@ -74,7 +74,8 @@ struct PacketWalk {
   };
 
   // Packs ray into slot count of p; s is its setup.
-  static void add(Rays& p, const Ray& ray, const typename Batch::RaySetup& s, float best) {
+  SPHRAY_FORCE_INLINE static void add(Rays& p, const Ray& ray, const typename Batch::RaySetup& s,
+                                      float best) {
     const std::size_t r = p.count++;
     p.ox[r] = ray.origin.x;
     p.oy[r] = ray.origin.y;

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include "bvh/bvh_data.hpp"
 #include "simd/isa_namespace.hpp"
@@ -136,36 +137,29 @@ struct QueryPlan {
 
   // 7. Rays that share a direction but start far apart (shadow rays towards one light from a
   // frame's hit points) fail coherent()'s origin test, yet what decides the boxes they meet is
-  // their lines: a chunk whose rays but one in 8 at most point within kPacketCosine of its first
-  // ray's, with origins spanning more than kPacketOrigins of the tree, is sorted by where the
-  // rays' lines cross a plane across their main axis, and each kPacketRays of that order whose
-  // lines cross it within kLineSpan of the tree's extent goes as a packet (bvh/line_packet.hpp).
-  // Measured on the sun's shadow rays (docs/bvh.md, "Line packets"): 1/16 leaves 60% of
-  // random:4096's rays alone, 1/4 about 10%, and runs 1.5-1.7x faster than 1/16 on random:4096
-  // and random:65536; with no limit (every group a packet) it loses 10-25% to 1/4. A chunk
-  // whose first kPacketRays rays are coherent() (camera rays: one origin) keeps to 6 at once;
-  // otherwise the test stops as soon as too many rays point elsewhere.
+  // their lines. The rays of a chunk's groups that coherent() turned down, if all but one in 8
+  // at most point within kPacketCosine of the first one's, are sorted by where their lines
+  // cross a plane across their main axis, and each kPacketRays of that order whose lines cross
+  // it within kLineSpan of the tree's extent go as a packet (bvh/line_packet.hpp). Measured on
+  // the sun's shadow rays (docs/bvh.md, "Line packets"): 1/16 leaves 60% of random:4096's rays
+  // alone, 1/4 about 10%, and runs 1.5-1.7x faster than 1/16 on random:4096 and random:65536;
+  // with no limit (every group a packet) it loses 10-25% to 1/4. Groups that coherent() takes
+  // stay consecutive packets: on rtiow-final's shadow rays, whose neighbours start close, line
+  // packets for whole chunks ran 30% slower. Stops as soon as too many rays point elsewhere.
   static constexpr float kLineSpan = 1.0f / 4.0f;
-  static bool lines(const Ray* rays, std::size_t n, float tree_extent) {
-    if (n < kPacketRays || coherent(rays, kPacketRays, tree_extent)) return false;
-    const Vec3& f = rays[0].dir;
+  static bool lines(const Ray* rays, const std::uint16_t* index, std::size_t n) {
+    if (n < kPacketRays) return false;
+    const Vec3& f = rays[index[0]].dir;
     const float ff = f.x * f.x + f.y * f.y + f.z * f.z;
     const std::size_t far_allowed = n / 8;
     std::size_t far = 0;
-    for (std::size_t i = 1; i < n; ++i) {
-      const Vec3& d = rays[i].dir;
+    for (std::size_t j = 1; j < n; ++j) {
+      const Vec3& d = rays[index[j]].dir;
       const float fd = f.x * d.x + f.y * d.y + f.z * d.z, dd = d.x * d.x + d.y * d.y + d.z * d.z;
       const bool close = fd > 0.0f && fd * fd > kPacketCosine * kPacketCosine * ff * dd;
       if (!close && ++far > far_allowed) return false;
     }
-    Vec3 lo = rays[0].origin, hi = lo;
-    for (std::size_t i = 1; i < n; ++i) {
-      const Vec3& o = rays[i].origin;
-      lo = {o.x < lo.x ? o.x : lo.x, o.y < lo.y ? o.y : lo.y, o.z < lo.z ? o.z : lo.z};
-      hi = {o.x > hi.x ? o.x : hi.x, o.y > hi.y ? o.y : hi.y, o.z > hi.z ? o.z : hi.z};
-    }
-    const float limit = kPacketOrigins * tree_extent;
-    return !(hi.x - lo.x <= limit && hi.y - lo.y <= limit && hi.z - lo.z <= limit);
+    return true;
   }
 };
 
