@@ -36,8 +36,9 @@ struct BvhData {
   float leaf_overlap = 0.0f;
 };
 
-/// Trees whose leaf_overlap reaches this take the branch-free leaf test (bvh/leaf_test.hpp).
-inline constexpr float kBvhBranchFreeOverlap = 1.5f;
+/// Trees whose leaf_overlap reaches this take the branch-free leaf test (bvh/leaf_test.hpp;
+/// why 1.25: QueryPlan::branch_free_leaves).
+inline constexpr float kBvhBranchFreeOverlap = 1.25f;
 /// A tree of at most this many leaves (of full width) is built flat and answers by brute force
 /// (QueryPlan::brute_force_tree).
 inline constexpr std::size_t kBvhBruteForceLeaves = 8;

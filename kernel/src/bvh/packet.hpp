@@ -74,7 +74,8 @@ struct PacketWalk {
   };
 
   // Packs ray into slot count of p; s is its setup.
-  static void add(Rays& p, const Ray& ray, const typename Batch::RaySetup& s, float best) {
+  SPHRAY_FORCE_INLINE static void add(Rays& p, const Ray& ray, const typename Batch::RaySetup& s,
+                                      float best) {
     const std::size_t r = p.count++;
     p.ox[r] = ray.origin.x;
     p.oy[r] = ray.origin.y;
@@ -244,39 +245,57 @@ struct PacketWalk {
     top += static_cast<unsigned>(__builtin_popcount(bits));
   }
 
+  // The interval ray's own t: the rays start where they are, so the bound on best is theirs.
+  // (bvh/line_packet.hpp slides the origins along the rays, and its frame shifts t.)
+  struct OwnFrame {
+    static float max_best(const Rays& p) { return PacketWalk::max_best(p); }
+  };
+
   // Each ray's intersect(bvh, ray) into p.best, p.best_id.
   template <bool kBranchFree, bool kMasked>
   static void intersect(const BvhData& bvh, Rays& p) {
-    const Interval iv = interval(p);
-    traverse(bvh, iv, max_best(p), [&](const Node& parent, std::size_t lane, std::size_t first) {
-      for (std::size_t g = 0; g < kRays / kWidth; ++g) {
-        for (unsigned bits = enter_box(p, iv, parent, lane, g); bits != 0; bits &= bits - 1) {
-          const std::size_t r = g * kWidth + static_cast<unsigned>(__builtin_ctz(bits));
-          Hit best{p.best[r], p.best_id[r]};
-          Leaves::template keep_closest<kBranchFree, kMasked>(bvh, p.setup(r), first, best);
-          p.best[r] = best.t;
-          p.best_id[r] = best.id;
-        }
-      }
-      return max_best(p);
-    });
+    intersect<kBranchFree, kMasked>(bvh, p, interval(p), OwnFrame{});
+  }
+
+  // The same through iv, an interval conservative for every ray of p, whose t is what frame
+  // makes of the rays' best.
+  template <bool kBranchFree, bool kMasked, class Frame>
+  static void intersect(const BvhData& bvh, Rays& p, const Interval& iv, const Frame& frame) {
+    traverse(
+        bvh, iv, frame.max_best(p), [&](const Node& parent, std::size_t lane, std::size_t first) {
+          for (std::size_t g = 0; g < kRays / kWidth; ++g) {
+            for (unsigned bits = enter_box(p, iv, parent, lane, g); bits != 0; bits &= bits - 1) {
+              const std::size_t r = g * kWidth + static_cast<unsigned>(__builtin_ctz(bits));
+              Hit best{p.best[r], p.best_id[r]};
+              Leaves::template keep_closest<kBranchFree, kMasked>(bvh, p.setup(r), first, best);
+              p.best[r] = best.t;
+              p.best_id[r] = best.id;
+            }
+          }
+          return frame.max_best(p);
+        });
   }
 
   // Each ray's occluded(bvh, ray): a blocked ray's best becomes -inf, which leaves it out of
   // every later box test.
   template <bool kMasked>
   static void occluded(const BvhData& bvh, Rays& p) {
-    const Interval iv = interval(p);
-    traverse(bvh, iv, max_best(p), [&](const Node& parent, std::size_t lane, std::size_t first) {
-      for (std::size_t g = 0; g < kRays / kWidth; ++g) {
-        for (unsigned bits = enter_box(p, iv, parent, lane, g); bits != 0; bits &= bits - 1) {
-          const std::size_t r = g * kWidth + static_cast<unsigned>(__builtin_ctz(bits));
-          if (Leaves::template any_hit<kMasked>(bvh, p.setup(r), first))
-            p.best[r] = -__builtin_inff();
-        }
-      }
-      return max_best(p);
-    });
+    occluded<kMasked>(bvh, p, interval(p), OwnFrame{});
+  }
+
+  template <bool kMasked, class Frame>
+  static void occluded(const BvhData& bvh, Rays& p, const Interval& iv, const Frame& frame) {
+    traverse(
+        bvh, iv, frame.max_best(p), [&](const Node& parent, std::size_t lane, std::size_t first) {
+          for (std::size_t g = 0; g < kRays / kWidth; ++g) {
+            for (unsigned bits = enter_box(p, iv, parent, lane, g); bits != 0; bits &= bits - 1) {
+              const std::size_t r = g * kWidth + static_cast<unsigned>(__builtin_ctz(bits));
+              if (Leaves::template any_hit<kMasked>(bvh, p.setup(r), first))
+                p.best[r] = -__builtin_inff();
+            }
+          }
+          return frame.max_best(p);
+        });
   }
 };
 

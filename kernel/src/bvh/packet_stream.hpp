@@ -10,6 +10,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "bvh/bvh_data.hpp"
+#include "bvh/line_packet.hpp"
 #include "bvh/node.hpp"
 #include "bvh/packet.hpp"
 #include "bvh/traverse.hpp"
@@ -42,24 +43,80 @@ struct PacketStream {
     return extent;
   }
 
+  // The largest coordinate magnitude of the tree's box (bvh/line_packet.hpp's margin).
+  static float tree_abs(const BvhData& bvh) {
+    const typename Packet::Node root(bvh.nodes, 0, kWidth);
+    float m = 0.0f;
+    for (int axis = 0; axis < 3; ++axis) {
+      for (std::size_t k = 0; k < kWidth; ++k) {
+        if (!(root.lo(axis, k) <= root.hi(axis, k))) continue;  // an empty lane
+        const float lo = __builtin_fabsf(root.lo(axis, k)), hi = __builtin_fabsf(root.hi(axis, k));
+        m = lo > m ? lo : m;
+        m = hi > m ? hi : m;
+      }
+    }
+    return m;
+  }
+
+  // The rays at positions index[0, n) of rays, sharing a direction from scattered origins, as
+  // line packets (bvh/line_packet.hpp): trace(p, iv, frame) traces each packet, single(i) each
+  // ray that goes alone, store(p, r, i) the packet's ray r back to ray i.
+  template <class Trace, class Single, class Store>
+  static void lines(const BvhData& bvh, const Ray* rays, const std::uint16_t* index, std::size_t n,
+                    float extent, Trace&& trace, Single&& single, Store&& store) {
+    using Line = LinePacket<A>;
+    typename Line::Lines l;
+    const std::uint16_t* order = Line::prepare(rays, index, n, tree_abs(bvh), l, single);
+    const float limit = Plan::kLineSpan * extent;
+    typename Packet::Rays p;
+    typename Line::ShiftedFrame frame;
+    for (std::size_t begin = 0; begin < l.count; begin += kRays) {
+      const std::size_t count = l.count - begin > kRays ? kRays : l.count - begin;
+      const std::uint16_t* group = order + begin;
+      if (count < Plan::kPacketMinRays || !Line::tight(l, group, count, limit)) {
+        for (std::size_t r = 0; r < count; ++r)
+          single(group[r]);
+        continue;
+      }
+      // The rays the contract says miss (prepare checked only what the slide needs) go alone.
+      std::uint16_t members[kRays];
+      p.count = 0;
+      for (std::size_t r = 0; r < count; ++r) {
+        const Ray& ray = rays[group[r]];
+        typename Batch::RaySetup s;
+        if (!Batch::setup(ray, s)) {
+          single(group[r]);
+          continue;
+        }
+        members[p.count] = group[r];
+        Packet::add(p, ray, s, ray.tmax);
+      }
+      if (p.count < Plan::kPacketMinRays) {
+        for (std::size_t r = 0; r < p.count; ++r)
+          single(members[r]);
+        continue;
+      }
+      Packet::pad(p);
+      const typename Packet::Interval iv = Line::interval(l, members, p, frame);
+      trace(p, iv, frame);
+      for (std::size_t r = 0; r < p.count; ++r)
+        store(p, r, members[r]);
+    }
+  }
+
   static unsigned octant(const Ray& ray) {
     return (__builtin_signbit(ray.dir.x) ? 1u : 0u) | (__builtin_signbit(ray.dir.y) ? 2u : 0u) |
            (__builtin_signbit(ray.dir.z) ? 4u : 0u);
   }
 
-  // Whether rays[0, n) (n <= kRays) go as a packet, and if so gathers into p those that may
-  // join it, their positions in index. single(i) answers each of the others: rays the
-  // contract says miss, rays not ahead, rays of another octant than the first, or all of them
-  // if the plan finds the group incoherent or too few remain.
+  // Whether rays[0, n) (n <= kRays, a group the plan finds coherent) go as a packet, and if so
+  // gathers into p those that may join it, their positions in index. single(i) answers each of
+  // the others: rays the contract says miss, rays not ahead, rays of another octant than the
+  // first, or all of them if too few remain.
   template <class Single>
-  static bool gather(const Ray* rays, std::size_t n, float extent, typename Packet::Rays& p,
-                     std::uint16_t* index, Single&& single) {
+  static bool gather(const Ray* rays, std::size_t n, typename Packet::Rays& p, std::uint16_t* index,
+                     Single&& single) {
     p.count = 0;
-    if (!Plan::coherent(rays, n, extent)) {
-      for (std::size_t i = 0; i < n; ++i)
-        single(i);
-      return false;
-    }
     unsigned first_octant = 8;
     for (std::size_t i = 0; i < n; ++i) {
       const Ray& ray = rays[i];
@@ -86,39 +143,75 @@ struct PacketStream {
     return false;
   }
 
-  // hits[i] = intersect(bvh, rays[i]), packets where the plan takes them.
-  template <bool kBranchFree, bool kMasked>
-  static void intersect(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+  // One chunk, rays[0, n) with n <= kChunk: groups of kRays consecutive rays that the plan
+  // finds coherent go as packets (Packet::interval over their own origins); the rays of the
+  // other groups, if the plan finds them parallel, as line packets, else one at a time.
+  // trace(p, iv, frame), single(i) and store(p, r, i) as for lines.
+  static constexpr std::size_t kChunk = Plan::kStreamChunk;
+  template <class Trace, class Single, class Store>
+  static void chunk(const BvhData& bvh, const Ray* rays, std::size_t n, Trace&& trace,
+                    Single&& single, Store&& store) {
     const float extent = tree_extent(bvh);
     typename Packet::Rays p;
     std::uint16_t index[kRays];
+    std::uint16_t rest[kChunk];
+    std::size_t rest_count = 0;
     for (std::size_t begin = 0; begin < n; begin += kRays) {
       const std::size_t count = n - begin > kRays ? kRays : n - begin;
-      const auto single = [&](std::size_t i) {
-        hits[begin + i] = Tree::template intersect<kBranchFree, kMasked>(bvh, rays[begin + i]);
-      };
-      if (!gather(rays + begin, count, extent, p, index, single)) continue;
-      Packet::template intersect<kBranchFree, kMasked>(bvh, p);
+      if (!Plan::coherent(rays + begin, count, extent)) {
+        for (std::size_t i = begin; i < begin + count; ++i)
+          rest[rest_count++] = static_cast<std::uint16_t>(i);
+        continue;
+      }
+      const auto one = [&](std::size_t i) { single(begin + i); };
+      if (!gather(rays + begin, count, p, index, one)) continue;
+      trace(p, Packet::interval(p), typename Packet::OwnFrame{});
       for (std::size_t r = 0; r < p.count; ++r)
-        hits[begin + index[r]] = {p.best[r], p.best_id[r]};
+        store(p, r, begin + index[r]);
+    }
+    if (rest_count >= Plan::kPacketRays && Plan::lines(rays, rest, rest_count)) {
+      lines(bvh, rays, rest, rest_count, extent, trace, single, store);
+    } else {
+      for (std::size_t j = 0; j < rest_count; ++j)
+        single(rest[j]);
+    }
+  }
+
+  // hits[i] = intersect(bvh, rays[i]), packets where the plan takes them.
+  template <bool kBranchFree, bool kMasked>
+  static void intersect(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+    for (std::size_t begin = 0; begin < n; begin += kChunk) {
+      const Ray* r0 = rays + begin;
+      Hit* h0 = hits + begin;
+      chunk(
+          bvh, r0, n - begin > kChunk ? kChunk : n - begin,
+          [&](typename Packet::Rays& p, const typename Packet::Interval& iv, const auto& frame) {
+            Packet::template intersect<kBranchFree, kMasked>(bvh, p, iv, frame);
+          },
+          [&](std::size_t i) {
+            h0[i] = Tree::template intersect<kBranchFree, kMasked>(bvh, r0[i]);
+          },
+          [&](const typename Packet::Rays& p, std::size_t r, std::size_t i) {
+            h0[i] = {p.best[r], p.best_id[r]};
+          });
     }
   }
 
   // blocked[i] = occluded(bvh, rays[i]), packets where the plan takes them.
   template <bool kMasked>
   static void occluded(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n) {
-    const float extent = tree_extent(bvh);
-    typename Packet::Rays p;
-    std::uint16_t index[kRays];
-    for (std::size_t begin = 0; begin < n; begin += kRays) {
-      const std::size_t count = n - begin > kRays ? kRays : n - begin;
-      const auto single = [&](std::size_t i) {
-        blocked[begin + i] = Tree::template occluded<kMasked>(bvh, rays[begin + i]);
-      };
-      if (!gather(rays + begin, count, extent, p, index, single)) continue;
-      Packet::template occluded<kMasked>(bvh, p);
-      for (std::size_t r = 0; r < p.count; ++r)
-        blocked[begin + index[r]] = p.best[r] == -__builtin_inff();
+    for (std::size_t begin = 0; begin < n; begin += kChunk) {
+      const Ray* r0 = rays + begin;
+      bool* b0 = blocked + begin;
+      chunk(
+          bvh, r0, n - begin > kChunk ? kChunk : n - begin,
+          [&](typename Packet::Rays& p, const typename Packet::Interval& iv, const auto& frame) {
+            Packet::template occluded<kMasked>(bvh, p, iv, frame);
+          },
+          [&](std::size_t i) { b0[i] = Tree::template occluded<kMasked>(bvh, r0[i]); },
+          [&](const typename Packet::Rays& p, std::size_t r, std::size_t i) {
+            b0[i] = p.best[r] == -__builtin_inff();
+          });
     }
   }
 };

@@ -9,11 +9,14 @@
 //                                     5. the walk, or brute force (small trees)
 //   sphray::intersect(tree, rays, ..) 4. one ray at a time, or several walks in turns
 //   sphray::occluded(tree, rays, ..)  6. coherent groups of rays as packets (both streams)
+//                                     7. parallel rays from scattered origins sorted by their
+//                                        lines into packets (both streams)
 //
 // Measured in docs/performance.md and docs/bvh.md; docs/architecture.md follows a ray through.
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include "bvh/bvh_data.hpp"
 #include "simd/isa_namespace.hpp"
@@ -37,8 +40,10 @@ struct QueryPlan {
 
   // 2. Where a point of the tree's box lies in kBvhBranchFreeOverlap leaf boxes or more on
   // average, a scattered ray tests several leaves, and the leaf test's branches are coin
-  // tosses: the tree takes the branch-free test (bvh/leaf_test.hpp). random:512 has 1.49,
-  // random:4096 1.80, random:65536 2.09; rtiow-final 1.00 (docs/bvh.md, "Leaves").
+  // tosses: the tree takes the branch-free test (bvh/leaf_test.hpp). random:4096 has 1.80,
+  // random:65536 2.09, rtiow-final 1.00; the small random trees 1.31 (192 spheres, 16 wide) to
+  // 1.49 (512), where the branch-free test is 4-17% faster on incoherent rays and within the
+  // noise on coherent ones: hence 1.25, not 1.5 (docs/bvh.md, "Leaves").
   static bool branch_free_leaves(const BvhData& bvh) {
     return bvh.leaf_overlap >= kBvhBranchFreeOverlap;
   }
@@ -126,6 +131,33 @@ struct QueryPlan {
       lo = {o.x < lo.x ? o.x : lo.x, o.y < lo.y ? o.y : lo.y, o.z < lo.z ? o.z : lo.z};
       hi = {o.x > hi.x ? o.x : hi.x, o.y > hi.y ? o.y : hi.y, o.z > hi.z ? o.z : hi.z};
       if (hi.x - lo.x > limit || hi.y - lo.y > limit || hi.z - lo.z > limit) return false;
+    }
+    return true;
+  }
+
+  // 7. Rays that share a direction but start far apart (shadow rays towards one light from a
+  // frame's hit points) fail coherent()'s origin test, yet what decides the boxes they meet is
+  // their lines. The rays of a chunk's groups that coherent() turned down, if all but one in 8
+  // at most point within kPacketCosine of the first one's, are sorted by where their lines
+  // cross a plane across their main axis, and each kPacketRays of that order whose lines cross
+  // it within kLineSpan of the tree's extent go as a packet (bvh/line_packet.hpp). Measured on
+  // the sun's shadow rays (docs/bvh.md, "Line packets"): 1/16 leaves 60% of random:4096's rays
+  // alone, 1/4 about 10%, and runs 1.5-1.7x faster than 1/16 on random:4096 and random:65536;
+  // with no limit (every group a packet) it loses 10-25% to 1/4. Groups that coherent() takes
+  // stay consecutive packets: on rtiow-final's shadow rays, whose neighbours start close, line
+  // packets for whole chunks ran 30% slower. Stops as soon as too many rays point elsewhere.
+  static constexpr float kLineSpan = 1.0f / 4.0f;
+  static bool lines(const Ray* rays, const std::uint16_t* index, std::size_t n) {
+    if (n < kPacketRays) return false;
+    const Vec3& f = rays[index[0]].dir;
+    const float ff = f.x * f.x + f.y * f.y + f.z * f.z;
+    const std::size_t far_allowed = n / 8;
+    std::size_t far = 0;
+    for (std::size_t j = 1; j < n; ++j) {
+      const Vec3& d = rays[index[j]].dir;
+      const float fd = f.x * d.x + f.y * d.y + f.z * d.z, dd = d.x * d.x + d.y * d.y + d.z * d.z;
+      const bool close = fd > 0.0f && fd * fd > kPacketCosine * kPacketCosine * ff * dd;
+      if (!close && ++far > far_allowed) return false;
     }
     return true;
   }
