@@ -930,7 +930,8 @@ def update_open3d_section(docs, data):
 
 # Sections measured with another command (`sphray bench`, or sphray_bench with a filter), each
 # stating its command: a regenerated page carries them over from the page it replaces, verbatim.
-KEPT_HEADINGS = ["## Packets for coherent rays (issue 19)", "## Small trees",
+KEPT_HEADINGS = ["## Packets for coherent rays (issue 19)",
+                 "## Shadow rays: line packets (issue 19, second round)", "## Small trees",
                  "## `sphray bench` on rtiow-final",
                  "## Small scenes against Embree: the targets still missed"]
 
