@@ -121,9 +121,9 @@ def render(
 def active_isa() -> str:
     """The instruction set in use: 'scalar', 'sse4.2', 'avx2', 'avx512' or 'neon'."""
 
-def bvh_isa() -> str:
-    """The instruction set a Scene's tree is laid out for and walked with (SPHRAY_ISA, or the
-    fastest for trees on this CPU)."""
+def bvh_isa(sphere_count: Optional[int] = None) -> str:
+    """The instruction set the tree of a Scene of sphere_count spheres (None: many) is laid
+    out for and walked with (SPHRAY_ISA, or the fastest for trees of that size on this CPU)."""
 
 def supported_isas() -> list[str]:
     """The instruction sets this build has and this machine runs, best first."""

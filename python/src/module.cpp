@@ -4,6 +4,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <optional>
+
 #include <cmath>
 #include <string>
 #include <vector>
@@ -240,9 +242,15 @@ PYBIND11_MODULE(sphray, m) {
       "active_isa", [] { return std::string(sphray::isa_name(sphray::active_isa())); },
       "The instruction set the queries use: 'scalar', 'sse4.2', 'avx2', 'avx512' or 'neon'.");
   m.def(
-      "bvh_isa", [] { return std::string(sphray::isa_name(sphray::bvh_isa())); },
-      "The instruction set a Scene's tree is laid out for and walked with: the fastest for trees "
-      "on this CPU, by a rule on its vendor and family, or SPHRAY_ISA's.");
+      "bvh_isa",
+      [](std::optional<std::size_t> sphere_count) {
+        return std::string(
+            sphray::isa_name(sphere_count ? sphray::bvh_isa(*sphere_count) : sphray::bvh_isa()));
+      },
+      py::arg("sphere_count") = py::none(),
+      "The instruction set the tree of a Scene of sphere_count spheres (None: many) is laid out "
+      "for and walked with: the fastest for trees of that size on this CPU, by a rule on its "
+      "vendor and family, or SPHRAY_ISA's.");
   m.def("supported_isas", &supported_isa_names,
         "The instruction sets this build has and this machine runs, best first (the values "
         "SPHRAY_ISA may take here).");

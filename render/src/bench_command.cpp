@@ -58,7 +58,7 @@ void print_header(const Context& c) {
               c.spheres, c.threads, c.threads == 1 ? "" : "s", c.seconds_per_row);
   std::printf("instruction sets: %s; queries: %s, trees: %s (* marks the rows they take)\n",
               isas.c_str(), std::string(isa_name(active_isa())).c_str(),
-              std::string(isa_name(bvh_isa())).c_str());
+              std::string(isa_name(bvh_isa(c.spheres))).c_str());
   const std::string embree = embree_version();
   std::printf("%s\n", embree.empty() ? "Embree: not in this build" : embree.c_str());
 }

@@ -37,7 +37,7 @@ nlohmann::json context_json(const Context& c) {
   j["sphray_version"] = kVersion;
   j["sphray_isas"] = supported_isa_list();
   j["sphray_active_isa"] = std::string(isa_name(active_isa()));
-  j["sphray_bvh_isa"] = std::string(isa_name(bvh_isa()));
+  j["sphray_bvh_isa"] = std::string(isa_name(bvh_isa(c.spheres)));
   j["embree_version"] = embree_version();
   j["scene"] = c.scene;
   j["spheres"] = c.spheres;

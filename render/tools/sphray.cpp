@@ -226,6 +226,29 @@ int run_scenes() {
   return 0;
 }
 
+// The trees' instruction set by size, e.g. "avx2; from 1024 spheres: avx512": the sizes where
+// bvh_isa(n) changes, found by bisection between powers of two.
+std::string tree_isas() {
+  const auto name = [](std::size_t n) { return std::string(sphray::isa_name(sphray::bvh_isa(n))); };
+  std::string text = name(0);
+  std::size_t lo = 0;
+  for (std::size_t hi = 1; hi <= (std::size_t{1} << 40); hi *= 2) {
+    if (name(hi) == name(lo)) {
+      lo = hi;
+      continue;
+    }
+    std::size_t a = lo, b = hi;  // name(a) != name(b): the first n in (a, b] that changes
+    while (b - a > 1) {
+      const std::size_t mid = a + (b - a) / 2;
+      (name(mid) == name(a) ? a : b) = mid;
+    }
+    text += "; from " + std::to_string(b) + " spheres: " + name(b);
+    lo = b;
+    hi = b;
+  }
+  return text;
+}
+
 int run_info() {
   std::printf("sphray %s\n", sphray::kVersion);
   std::printf("instruction set: %s\n", std::string(sphray::isa_name(sphray::active_isa())).c_str());
@@ -234,7 +257,7 @@ int run_info() {
     supported += (supported.empty() ? "" : ", ") + std::string(sphray::isa_name(isa));
   }
   std::printf("supported here: %s (choose with SPHRAY_ISA)\n", supported.c_str());
-  std::printf("trees: %s\n", std::string(sphray::isa_name(sphray::bvh_isa())).c_str());
+  std::printf("trees: %s\n", tree_isas().c_str());
   return 0;
 }
 

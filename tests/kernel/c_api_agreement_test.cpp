@@ -406,7 +406,10 @@ INSTANTIATE_TEST_SUITE_P(Accel, CApiAgreement,
 
 TEST(CApiInfo, NamesTheActiveIsaAndTheVersion) {
   EXPECT_EQ(std::string(sphray_active_isa()), std::string(sphray::isa_name(sphray::active_isa())));
-  EXPECT_EQ(std::string(sphray_bvh_isa()), std::string(sphray::isa_name(sphray::bvh_isa())));
+  for (const std::size_t n :
+       {std::size_t{0}, std::size_t{512}, std::size_t{2048}, std::size_t{1} << 20})
+    EXPECT_EQ(std::string(sphray_bvh_isa(n)), std::string(sphray::isa_name(sphray::bvh_isa(n))))
+        << n;
   EXPECT_EQ(std::string(sphray_version()), std::string(sphray::kVersion));
 }
 

@@ -11,6 +11,6 @@ int main() {
   const sphray::Hit hit = sphray::intersect(s.view(), sphray::Ray{{0, 0, 0}, {0, 0, -1}});
   std::printf("active=%s hit=%u t=%g tree=%s\n",
               std::string(sphray::isa_name(sphray::active_isa())).c_str(), hit.id, hit.t,
-              std::string(sphray::isa_name(sphray::bvh_isa())).c_str());
+              std::string(sphray::isa_name(sphray::bvh_isa(s.size()))).c_str());
   return hit.id == 0 && hit.t == 1.5f ? 0 : 1;
 }

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "dispatch/tree_isa_rule.hpp"
 #include "sphray/bvh.hpp"
 #include "sphray/isa.hpp"
+#include "sphray/spheres.hpp"
 
 namespace sphray::detail {
 namespace {
@@ -27,25 +29,39 @@ constexpr CpuIdentity kZen2{CpuVendor::amd, 0x17, 0x31};
 constexpr CpuIdentity kSapphireRapids{CpuVendor::intel, 0x6, 0x8f};
 constexpr CpuIdentity kUnknown{CpuVendor::other, 0x1a, 0x02};
 
-TEST(TreeIsaRule, Zen5KeepsTheSixteenWideTree) {
-  EXPECT_EQ(tree_isa_for(kZen5, kAvx512Machine), Isa::avx512);
+constexpr std::size_t kMany = std::size_t{1} << 20;
+
+TEST(TreeIsaRule, Zen5KeepsTheSixteenWideTreeAtEverySize) {
+  for (const std::size_t n : {std::size_t{0}, std::size_t{512}, std::size_t{2048}, kMany})
+    EXPECT_EQ(tree_isa_for(kZen5, kAvx512Machine, n), Isa::avx512) << n;
+}
+
+// Zen 4 runs a 512-bit instruction as two 256-bit halves: the 8-wide tree wins below 1024
+// spheres, the 16-wide one from there (docs/decisions.md).
+TEST(TreeIsaRule, Zen4TakesTheEightWideTreeBelow1024Spheres) {
+  EXPECT_EQ(tree_isa_for(kZen4, kAvx512Machine, 0), Isa::avx2);
+  EXPECT_EQ(tree_isa_for(kZen4, kAvx512Machine, 486), Isa::avx2);
+  EXPECT_EQ(tree_isa_for(kZen4, kAvx512Machine, 1023), Isa::avx2);
+  EXPECT_EQ(tree_isa_for(kZen4, kAvx512Machine, 1024), Isa::avx512);
+  EXPECT_EQ(tree_isa_for(kZen4, kAvx512Machine, kMany), Isa::avx512);
 }
 
 TEST(TreeIsaRule, FamiliesWithoutARuleTakeTheWidest) {
-  EXPECT_EQ(tree_isa_for(kZen4, kAvx512Machine), Isa::avx512);
-  EXPECT_EQ(tree_isa_for(kSapphireRapids, kAvx512Machine), Isa::avx512);
-  EXPECT_EQ(tree_isa_for(kSapphireRapids, kAvx2Machine), Isa::avx2);
-  EXPECT_EQ(tree_isa_for(kZen2, kAvx2Machine), Isa::avx2);
-  EXPECT_EQ(tree_isa_for(kUnknown, kAvx512Machine), Isa::avx512);
+  EXPECT_EQ(tree_isa_for(kSapphireRapids, kAvx512Machine, 100), Isa::avx512);
+  EXPECT_EQ(tree_isa_for(kSapphireRapids, kAvx2Machine, kMany), Isa::avx2);
+  EXPECT_EQ(tree_isa_for(kZen2, kAvx2Machine, 100), Isa::avx2);
+  EXPECT_EQ(tree_isa_for(kUnknown, kAvx512Machine, 100), Isa::avx512);
 }
 
 TEST(TreeIsaRule, NeverChoosesWhatCannotRun) {
-  // A Zen 5 whose OS does not save the zmm state, or a build without avx512.
-  EXPECT_EQ(tree_isa_for(kZen5, kAvx2Machine), Isa::avx2);
+  // A Zen 4 or 5 whose OS does not save the zmm state, or a build without avx512.
+  EXPECT_EQ(tree_isa_for(kZen5, kAvx2Machine, kMany), Isa::avx2);
+  EXPECT_EQ(tree_isa_for(kZen4, kAvx2Machine, kMany), Isa::avx2);
   const std::vector<Isa> sse_only = {Isa::sse4_2, Isa::scalar};
-  EXPECT_EQ(tree_isa_for(kZen5, sse_only), Isa::sse4_2);
+  EXPECT_EQ(tree_isa_for(kZen5, sse_only, kMany), Isa::sse4_2);
+  EXPECT_EQ(tree_isa_for(kZen4, sse_only, 100), Isa::sse4_2);
   const std::vector<Isa> scalar_only = {Isa::scalar};
-  EXPECT_EQ(tree_isa_for(kZen5, scalar_only), Isa::scalar);
+  EXPECT_EQ(tree_isa_for(kZen5, scalar_only, kMany), Isa::scalar);
 }
 
 // CPUID leaf 0's vendor string as the three registers hold it (EBX, EDX, ECX).
@@ -107,11 +123,18 @@ TEST(TreeIsaRule, BvhIsaFollowsTheOverrideOrTheRule) {
   const char* requested = std::getenv("SPHRAY_ISA");
   const IsaChoice choice = choose_isa(requested);
   const bool honoured = requested != nullptr && *requested != '\0' && choice.message.empty();
-  const Isa expected = honoured ? choice.isa : tree_isa_for(identify_cpu(), supported_isas());
-  EXPECT_EQ(bvh_isa(), expected);
   const std::span<const Isa> isas = supported_isas();
-  EXPECT_NE(std::find(isas.begin(), isas.end(), bvh_isa()), isas.end());
-  EXPECT_EQ(SphereBVH(SphereView{nullptr, nullptr, nullptr, nullptr, 0, 0}).isa(), bvh_isa());
+  for (const std::size_t n : {std::size_t{0}, std::size_t{512}, std::size_t{2048}, kMany}) {
+    const Isa expected = honoured ? choice.isa : tree_isa_for(identify_cpu(), isas, n);
+    EXPECT_EQ(bvh_isa(n), expected) << n;
+    EXPECT_NE(std::find(isas.begin(), isas.end(), bvh_isa(n)), isas.end()) << n;
+  }
+  EXPECT_EQ(bvh_isa(), bvh_isa(std::numeric_limits<std::size_t>::max()));
+  EXPECT_EQ(SphereBVH(SphereView{nullptr, nullptr, nullptr, nullptr, 0, 0}).isa(), bvh_isa(0));
+  SphereSoA many;
+  for (int i = 0; i < 3000; ++i)
+    many.add({static_cast<float>(i), 0, 0}, 0.25f);
+  EXPECT_EQ(SphereBVH(many.view()).isa(), bvh_isa(3000));
 }
 
 }  // namespace

@@ -47,7 +47,7 @@ TEST_F(BenchCli, TimesEveryRowAndWritesGoogleBenchmarkJson) {
   EXPECT_EQ(json.at("context").at("scene"), "three");
   EXPECT_EQ(json.at("context").at("spheres"), 3);
   EXPECT_EQ(json.at("context").at("sphray_bvh_isa"),
-            std::string(sphray::isa_name(sphray::bvh_isa())));
+            std::string(sphray::isa_name(sphray::bvh_isa(3))));
   const auto& rows = json.at("benchmarks");
   std::size_t sphray_rows = 0, dispatched = 0;
   for (const auto& row : rows) {

@@ -5,6 +5,8 @@
 
 #include <unistd.h>
 
+#include <sphray/sphray.hpp>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -116,6 +118,15 @@ TEST_F(Cli, ScenesInfoAndHelp) {
   Result info = run("info");
   EXPECT_EQ(info.status, 0);
   EXPECT_NE(info.out.find("instruction set: "), std::string::npos) << info.out;
+  // The trees' line runs from the smallest tree's instruction set to that of many spheres.
+  const std::size_t trees = info.out.find("trees: ");
+  ASSERT_NE(trees, std::string::npos) << info.out;
+  const std::size_t end = info.out.find('\n', trees);
+  const std::string line = info.out.substr(trees + 7, end - trees - 7);
+  const std::string smallest(sphray::isa_name(sphray::bvh_isa(0)));
+  const std::string many(sphray::isa_name(sphray::bvh_isa()));
+  EXPECT_EQ(line.substr(0, smallest.size()), smallest) << line;
+  EXPECT_EQ(line.substr(line.size() - std::min(line.size(), many.size())), many) << line;
   for (const char* help : {"--help", "render --help", "scenes --help", "info --help"}) {
     Result r = run(help);
     EXPECT_EQ(r.status, 0) << help;

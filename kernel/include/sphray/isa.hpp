@@ -41,9 +41,12 @@ SPHRAY_API IsaChoice choose_isa(const char* requested);
 /// The instruction set the queries in query.hpp use (SPHRAY_ISA read once, on first use).
 SPHRAY_API Isa active_isa();
 
-/// The instruction set a SphereBVH built without one is laid out for: SPHRAY_ISA's when it is
-/// set and can run here, otherwise the one that walks trees fastest on this CPU, by a rule on
-/// its vendor and family (on AMD Zen 4, which runs AVX-512 as two 256-bit halves: avx2). Read
-/// once, on first use.
+/// The instruction set a SphereBVH over sphere_count spheres built without one is laid out for:
+/// SPHRAY_ISA's when it is set and can run here, otherwise the one that walks trees of that
+/// size fastest on this CPU, by a rule on its vendor and family (on AMD Zen 4, which runs
+/// AVX-512 as two 256-bit halves: avx2 below 1024 spheres, avx512 from there). The CPU and
+/// SPHRAY_ISA are read once, on first use.
+SPHRAY_API Isa bvh_isa(std::size_t sphere_count);
+/// bvh_isa for a tree of many spheres, at or above every size the rule distinguishes.
 SPHRAY_API Isa bvh_isa();
 }  // namespace sphray

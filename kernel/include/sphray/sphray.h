@@ -80,9 +80,10 @@ SPHRAY_API const char* sphray_version(void);
  * (SPHRAY_ISA in the environment forces one, as for the C++ API). */
 SPHRAY_API const char* sphray_active_isa(void);
 
-/* The instruction set a scene's BVH is laid out for and walked with, named as above: the one
- * that walks trees fastest on this CPU (by a rule on its vendor and family), or SPHRAY_ISA's. */
-SPHRAY_API const char* sphray_bvh_isa(void);
+/* The instruction set the BVH of a scene of sphere_count spheres is laid out for and walked
+ * with, named as above: the one that walks trees of that size fastest on this CPU (by a rule on
+ * its vendor and family), or SPHRAY_ISA's. */
+SPHRAY_API const char* sphray_bvh_isa(size_t sphere_count);
 
 /* The message of the last failure on the calling thread ("" if none yet). A successful call
  * leaves it as it was: read it only after a non-zero status. Valid until the thread's next

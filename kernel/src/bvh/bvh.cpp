@@ -48,7 +48,7 @@ const EntryTable& entries_for(Isa isa) {
 SphereBVH::SphereBVH() : SphereBVH(SphereView{nullptr, nullptr, nullptr, nullptr, 0, 0}) {}
 
 SphereBVH::SphereBVH(SphereView spheres, BvhBuildOptions options)
-    : SphereBVH(spheres, bvh_isa(), options) {}
+    : SphereBVH(spheres, bvh_isa(spheres.count), options) {}
 
 SphereBVH::SphereBVH(SphereView spheres, Isa isa, BvhBuildOptions options)
     : entries_(&entries_for(isa)) {

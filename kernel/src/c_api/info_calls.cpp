@@ -34,8 +34,8 @@ const char* sphray_active_isa(void) {
   return c_name(sphray::active_isa());
 }
 
-const char* sphray_bvh_isa(void) {
-  return c_name(sphray::bvh_isa());
+const char* sphray_bvh_isa(size_t sphere_count) {
+  return c_name(sphray::bvh_isa(sphere_count));
 }
 
 const char* sphray_last_error(void) {

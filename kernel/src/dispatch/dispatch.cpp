@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <string>
 
 #include "dispatch/cpu.hpp"
@@ -81,7 +82,8 @@ const Supported& supported() {
 struct Choice {
   static constexpr std::size_t kSmall = 32;  // views below this many spheres may go narrower
   const EntryTable* active = nullptr;
-  const EntryTable* tree = nullptr;
+  bool tree_forced = false;  // SPHRAY_ISA is honoured: trees take it too, at every size
+  detail::CpuIdentity cpu{};
   std::array<const EntryTable*, kSmall> by_count{};
 
   Choice() {
@@ -89,9 +91,8 @@ struct Choice {
     const IsaChoice choice = choose_isa(requested);
     if (!choice.message.empty()) std::fprintf(stderr, "%s\n", choice.message.c_str());
     active = find_entries(choice.isa);
-    const bool honoured = requested != nullptr && *requested != '\0' && choice.message.empty();
-    tree = honoured ? active
-                    : find_entries(detail::tree_isa_for(detail::identify_cpu(), supported_isas()));
+    tree_forced = requested != nullptr && *requested != '\0' && choice.message.empty();
+    cpu = detail::identify_cpu();
     for (std::size_t n = 0; n < kSmall; ++n)
       by_count[n] = narrowest_fit(n);
   }
@@ -180,8 +181,14 @@ Isa active_isa() {
   return choice().active->isa;
 }
 
+Isa bvh_isa(std::size_t sphere_count) {
+  const Choice& c = choice();
+  return c.tree_forced ? c.active->isa
+                       : detail::tree_isa_for(c.cpu, supported_isas(), sphere_count);
+}
+
 Isa bvh_isa() {
-  return choice().tree->isa;
+  return bvh_isa(std::numeric_limits<std::size_t>::max());
 }
 namespace detail {
 

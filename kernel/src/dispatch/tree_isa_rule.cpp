@@ -9,19 +9,26 @@ namespace {
 struct TreeIsaRule {
   CpuVendor vendor;
   unsigned family;
+  std::size_t from_spheres;  // the line holds for trees of at least this many spheres
   Isa isa;
 };
 
-// One line per CPU family measured with `sphray bench` (the avx2 and avx512 tree rows side by
-// side; docs/decisions.md, "The tree's instruction set per CPU"). A family without a line takes
-// the widest instruction set, as the brute force does.
+// Lines per CPU family measured with `sphray bench` (the avx2 and avx512 tree and stream rows
+// side by side, camera and random rays; docs/decisions.md, "The tree's instruction set per
+// CPU"); for a family, the last line whose size a tree reaches holds. A family without a line
+// takes the widest instruction set, as the brute force does.
 // - AMD family 0x1A (Zen 5, EPYC 9005): the 16-wide tree walks random scenes of 4096 to
 //   1048576 spheres 1-40% faster than the 8-wide one, rtiow-final 2-14% slower: avx512, the
-//   widest.
-// AMD family 0x19 (Zen 4, which runs a 512-bit instruction as two 256-bit halves) is not
-// measured yet; its line belongs here once it is.
+//   widest, at every size.
+// - AMD family 0x19 (Zen 4, EPYC 9004, which runs a 512-bit instruction as two 256-bit
+//   halves): the 8-wide tree is 4-35% faster on rtiow-final (486 spheres) and random:512, per
+//   ray and in the stream; at 1024 spheres the two are even (0.94-1.03x), and from 2048 on the
+//   16-wide one wins (4-34%, most on the stream's packets): avx2 below 1024 spheres, avx512
+//   from there.
 constexpr std::array kTreeIsaRules = {
-    TreeIsaRule{CpuVendor::amd, 0x1a, Isa::avx512},
+    TreeIsaRule{CpuVendor::amd, 0x1a, 0, Isa::avx512},
+    TreeIsaRule{CpuVendor::amd, 0x19, 0, Isa::avx2},
+    TreeIsaRule{CpuVendor::amd, 0x19, 1024, Isa::avx512},
 };
 
 bool has(std::span<const Isa> available, Isa isa) {
@@ -30,11 +37,13 @@ bool has(std::span<const Isa> available, Isa isa) {
 
 }  // namespace
 
-Isa tree_isa_for(const CpuIdentity& cpu, std::span<const Isa> available) {
+Isa tree_isa_for(const CpuIdentity& cpu, std::span<const Isa> available, std::size_t sphere_count) {
+  Isa chosen = available.front();
   for (const TreeIsaRule& rule : kTreeIsaRules)
-    if (rule.vendor == cpu.vendor && rule.family == cpu.family && has(available, rule.isa))
-      return rule.isa;
-  return available.front();
+    if (rule.vendor == cpu.vendor && rule.family == cpu.family &&
+        sphere_count >= rule.from_spheres && has(available, rule.isa))
+      chosen = rule.isa;
+  return chosen;
 }
 
 }  // namespace sphray::detail

@@ -4,6 +4,7 @@
 // for). SPHRAY_ISA overrides it (dispatch.cpp).
 #pragma once
 
+#include <cstddef>
 #include <span>
 
 #include "dispatch/cpu.hpp"
@@ -11,9 +12,9 @@
 
 namespace sphray::detail {
 
-/// The tree's instruction set on cpu among available (the supported ones, best first, never
-/// empty): the one kTreeIsaRules names for the CPU's vendor and family when it is available,
-/// otherwise the best one.
-Isa tree_isa_for(const CpuIdentity& cpu, std::span<const Isa> available);
+/// The instruction set of a tree over sphere_count spheres on cpu, among available (the
+/// supported ones, best first, never empty): the one kTreeIsaRules names for the CPU's vendor,
+/// family and that size when it is available, otherwise the best one.
+Isa tree_isa_for(const CpuIdentity& cpu, std::span<const Isa> available, std::size_t sphere_count);
 
 }  // namespace sphray::detail
