@@ -28,46 +28,40 @@ struct PacketStream {
   static constexpr std::size_t kRays = Packet::kRays;
   static constexpr std::size_t kWidth = Packet::kWidth;
 
-  // The largest side of the tree's box (the union of the root's children).
-  static float tree_extent(const BvhData& bvh) {
+  // The tree's box (the union of the root's children), as the packets need it: its largest
+  // side (the plan's yardstick for a group's spread) and its largest coordinate magnitude (the
+  // rounding margin of bvh/line_packet.hpp). Empty lanes (lo = +inf, hi = -inf) drop out.
+  struct TreeSize {
+    float extent = 0.0f, abs = 0.0f;
+  };
+  static TreeSize tree_size(const BvhData& bvh) {
     const typename Packet::Node root(bvh.nodes, 0, kWidth);
-    float extent = 0.0f;
+    TreeSize size;
     for (int axis = 0; axis < 3; ++axis) {
       float lo = __builtin_inff(), hi = -__builtin_inff();
       for (std::size_t k = 0; k < kWidth; ++k) {
         lo = root.lo(axis, k) < lo ? root.lo(axis, k) : lo;
         hi = root.hi(axis, k) > hi ? root.hi(axis, k) : hi;
       }
-      extent = hi - lo > extent ? hi - lo : extent;
+      if (!(lo <= hi)) continue;
+      size.extent = hi - lo > size.extent ? hi - lo : size.extent;
+      const float m =
+          __builtin_fabsf(lo) > __builtin_fabsf(hi) ? __builtin_fabsf(lo) : __builtin_fabsf(hi);
+      size.abs = m > size.abs ? m : size.abs;
     }
-    return extent;
-  }
-
-  // The largest coordinate magnitude of the tree's box (bvh/line_packet.hpp's margin).
-  static float tree_abs(const BvhData& bvh) {
-    const typename Packet::Node root(bvh.nodes, 0, kWidth);
-    float m = 0.0f;
-    for (int axis = 0; axis < 3; ++axis) {
-      for (std::size_t k = 0; k < kWidth; ++k) {
-        if (!(root.lo(axis, k) <= root.hi(axis, k))) continue;  // an empty lane
-        const float lo = __builtin_fabsf(root.lo(axis, k)), hi = __builtin_fabsf(root.hi(axis, k));
-        m = lo > m ? lo : m;
-        m = hi > m ? hi : m;
-      }
-    }
-    return m;
+    return size;
   }
 
   // The rays at positions index[0, n) of rays, sharing a direction from scattered origins, as
   // line packets (bvh/line_packet.hpp): trace(p, iv, frame) traces each packet, single(i) each
   // ray that goes alone, store(p, r, i) the packet's ray r back to ray i.
   template <class Trace, class Single, class Store>
-  static void lines(const BvhData& bvh, const Ray* rays, const std::uint16_t* index, std::size_t n,
-                    float extent, Trace&& trace, Single&& single, Store&& store) {
+  static void lines(const Ray* rays, const std::uint16_t* index, std::size_t n,
+                    const TreeSize& tree, Trace&& trace, Single&& single, Store&& store) {
     using Line = LinePacket<A>;
     typename Line::Lines l;
-    const std::uint16_t* order = Line::prepare(rays, index, n, tree_abs(bvh), l, single);
-    const float limit = Plan::kLineSpan * extent;
+    const std::uint16_t* order = Line::prepare(rays, index, n, tree.abs, l, single);
+    const float limit = Plan::kLineSpan * tree.extent;
     typename Packet::Rays p;
     typename Line::ShiftedFrame frame;
     for (std::size_t begin = 0; begin < l.count; begin += kRays) {
@@ -104,11 +98,6 @@ struct PacketStream {
     }
   }
 
-  static unsigned octant(const Ray& ray) {
-    return (__builtin_signbit(ray.dir.x) ? 1u : 0u) | (__builtin_signbit(ray.dir.y) ? 2u : 0u) |
-           (__builtin_signbit(ray.dir.z) ? 4u : 0u);
-  }
-
   // Whether rays[0, n) (n <= kRays, a group the plan finds coherent) go as a packet, and if so
   // gathers into p those that may join it, their positions in index. single(i) answers each of
   // the others: rays the contract says miss, rays not ahead, rays of another octant than the
@@ -125,7 +114,7 @@ struct PacketStream {
         single(i);
         continue;
       }
-      const unsigned o = octant(ray);
+      const unsigned o = LinePacket<A>::octant(ray.dir);
       if (first_octant == 8) first_octant = o;
       if (o != first_octant) {
         single(i);
@@ -151,14 +140,14 @@ struct PacketStream {
   template <class Trace, class Single, class Store>
   static void chunk(const BvhData& bvh, const Ray* rays, std::size_t n, Trace&& trace,
                     Single&& single, Store&& store) {
-    const float extent = tree_extent(bvh);
+    const TreeSize tree = tree_size(bvh);
     typename Packet::Rays p;
     std::uint16_t index[kRays];
     std::uint16_t rest[kChunk];
     std::size_t rest_count = 0;
     for (std::size_t begin = 0; begin < n; begin += kRays) {
       const std::size_t count = n - begin > kRays ? kRays : n - begin;
-      if (!Plan::coherent(rays + begin, count, extent)) {
+      if (!Plan::coherent(rays + begin, count, tree.extent)) {
         for (std::size_t i = begin; i < begin + count; ++i)
           rest[rest_count++] = static_cast<std::uint16_t>(i);
         continue;
@@ -170,7 +159,7 @@ struct PacketStream {
         store(p, r, begin + index[r]);
     }
     if (rest_count >= Plan::kPacketRays && Plan::lines(rays, rest, rest_count)) {
-      lines(bvh, rays, rest, rest_count, extent, trace, single, store);
+      lines(rays, rest, rest_count, tree, trace, single, store);
     } else {
       for (std::size_t j = 0; j < rest_count; ++j)
         single(rest[j]);
