@@ -82,7 +82,12 @@ class TileTracer {
  public:
   TileTracer(const Scene& scene, const Camera& camera, const RayQueries& queries,
              const RenderOptions& options)
-      : scene_(scene), camera_(camera), queries_(queries), options_(options), table_(scene) {}
+      : scene_(scene),
+        camera_(camera),
+        queries_(queries),
+        options_(options),
+        table_(scene),
+        shade_(shade_for(active_isa())) {}
 
   void trace(const Tile& tile, std::uint32_t sample, Vec3* sums, Counters& counters,
              const Recorder* recorder) const {
@@ -102,7 +107,7 @@ class TileTracer {
       if (recorder != nullptr) (*recorder)(bounce, rays);
       if (bounce > 0) bounce_rays += w.live;
       // Paths still going after max_depth rays carry no light, as in the book.
-      shade(w, table_, scene_.sky, radiance.data());
+      shade_(w, table_, scene_.sky, radiance.data());
     }
     for (std::size_t i = 0; i < n; ++i)
       sums[i] += radiance[i];
@@ -148,6 +153,7 @@ class TileTracer {
   const RayQueries& queries_;
   const RenderOptions& options_;
   ShadingTable table_;
+  ShadeFunction shade_;  // the passes' copy for the widest vectors the queries use
 };
 
 double seconds_since(Clock::time_point start) {

@@ -1,221 +1,44 @@
 #include "wavefront.hpp"
 
-#include <bit>
 #include <cmath>
-#include <limits>
 
 namespace sphray::render {
 namespace {
 
-constexpr auto kLambertian = static_cast<std::int32_t>(MaterialKind::lambertian);
-constexpr auto kMetal = static_cast<std::int32_t>(MaterialKind::metal);
-constexpr auto kDielectric = static_cast<std::int32_t>(MaterialKind::dielectric);
-
-// The kernel's surface error bound (kernel/src/surface/surface.cpp): Higham's gamma(16). This
-// file repeats surface() and offset_origin() lane by lane; tests/render/wavefront_test.cpp
+// The kernel's surface error bound (kernel/src/surface/surface.cpp): Higham's gamma(16). The
+// passes repeat surface() and offset_origin() lane by lane; tests/render/wavefront_test.cpp
 // holds them to the kernel's, bit for bit.
 constexpr float kGamma16 = 16.0f * 0x1p-24f / (1.0f - 16.0f * 0x1p-24f);
 
-bool finite(float x) {
-  return std::fabs(x) <= std::numeric_limits<float>::max();
-}
+// The copies of the passes this build has, best first (render/CMakeLists.txt).
+constexpr ShadeClone kClones[] = {
+#if SPHRAY_SHADE_HAS_AVX2
+    {Isa::avx2, &avx2::shade},
+#endif
+#if SPHRAY_SHADE_HAS_SSE4_2
+    {Isa::sse4_2, &sse4_2::shade},
+#endif
+    {Isa::scalar, &baseline::shade},
+};
 
-// surface()'s power of two s with s * x in [1, 4), by the exponent's bits.
-float power_of_two_near_inverse(float x) {
-  const auto exponent = static_cast<std::int32_t>(std::bit_cast<std::uint32_t>(x) >> 23);
-  const std::int32_t scale = 254 - exponent > 1 ? 254 - exponent : 1;
-  return std::bit_cast<float>(static_cast<std::uint32_t>(scale) << 23);
-}
-
-// spawn()'s step of x to the next float in the direction of sign, as selects.
-float away(float x, float sign) {
-  const auto bits = std::bit_cast<std::uint32_t>(x);
-  const bool grows = (x > 0.0f) == (sign > 0.0f);
-  const bool infinite = std::fabs(x) == std::numeric_limits<float>::infinity();
-  const std::uint32_t stepped = grows ? (infinite ? bits : bits + 1u) : bits - 1u;
-  const std::uint32_t tiny = (std::bit_cast<std::uint32_t>(sign) & 0x80000000u) | 1u;
-  const float moved = std::bit_cast<float>(x == 0.0f ? tiny : stepped);
-  return sign == 0.0f || x != x ? x : moved;
-}
-
-// Each live path's ray, hit and sphere, one array per quantity.
-void gather(Wavefront& w, const ShadingTable& table) {
-  for (std::size_t k = 0; k < w.live; ++k) {
-    const Ray& ray = w.rays[k];
-    w.ox[k] = ray.origin.x, w.oy[k] = ray.origin.y, w.oz[k] = ray.origin.z;
-    w.dx[k] = ray.dir.x, w.dy[k] = ray.dir.y, w.dz[k] = ray.dir.z;
-    w.t[k] = w.hits[k].t;
-    w.found[k] = w.hits[k].found();
-    const SphereShading& s = table.row(w.hits[k].id);
-    w.cx[k] = s.cx, w.cy[k] = s.cy, w.cz[k] = s.cz, w.radius[k] = s.radius;
-    w.ex[k] = s.ex, w.ey[k] = s.ey, w.ez[k] = s.ez;
-    w.ar[k] = s.ar, w.ag[k] = s.ag, w.ab[k] = s.ab;
-    w.fuzz[k] = s.fuzz, w.ior[k] = s.ior, w.kind[k] = s.kind;
+// Whether a copy built for `clone` runs where the kernel runs `active`: x86's sets nest.
+bool runs_on(Isa clone, Isa active) {
+  switch (clone) {
+    case Isa::avx2:
+      return active == Isa::avx2 || active == Isa::avx512;
+    case Isa::sse4_2:
+      return active == Isa::sse4_2 || active == Isa::avx2 || active == Isa::avx512;
+    default:
+      return true;
   }
-}
-
-// sphray::surface() for every lane, the unit incoming direction, the normal against it, and the
-// sky light of a miss.
-void surfaces(Wavefront& w, const Sky& sky) {
-  const Vec3 horizon = sky.horizon, zenith = sky.zenith;  // no aliasing the lanes: vectorised
-  for (std::size_t k = 0; k < w.live; ++k) {
-    const float px = w.ox[k] + w.t[k] * w.dx[k];
-    const float py = w.oy[k] + w.t[k] * w.dy[k];
-    const float pz = w.oz[k] + w.t[k] * w.dz[k];
-    const float fx = px - w.cx[k], fy = py - w.cy[k], fz = pz - w.cz[k];
-    float largest = std::fabs(fx);  // std::max({...}): the first largest
-    largest = largest < std::fabs(fy) ? std::fabs(fy) : largest;
-    largest = largest < std::fabs(fz) ? std::fabs(fz) : largest;
-    const bool has_direction = finite(fx) && finite(fy) && finite(fz) && largest > 0.0f;
-    const float scale = power_of_two_near_inverse(largest);
-    const float sx = fx * scale, sy = fy * scale, sz = fz * scale;
-    const float slength = std::sqrt(sx * sx + sy * sy + sz * sz);
-    const float length = std::sqrt(w.dx[k] * w.dx[k] + w.dy[k] * w.dy[k] + w.dz[k] * w.dz[k]);
-    w.ux[k] = w.dx[k] / length, w.uy[k] = w.dy[k] / length, w.uz[k] = w.dz[k] / length;
-    const float nx = has_direction ? sx / slength : -w.ux[k];
-    const float ny = has_direction ? sy / slength : -w.uy[k];
-    const float nz = has_direction ? sz / slength : -w.uz[k];
-    w.nx[k] = nx, w.ny[k] = ny, w.nz[k] = nz;
-    w.px[k] = w.cx[k] + w.radius[k] * nx;
-    w.py[k] = w.cy[k] + w.radius[k] * ny;
-    w.pz[k] = w.cz[k] + w.radius[k] * nz;
-    // The normal against the incoming ray (as scatter() turns it), and a dielectric's eta.
-    // Every load and store unconditional: a conditional one keeps GCC from vectorising.
-    const bool front = w.dx[k] * nx + w.dy[k] * ny + w.dz[k] * nz < 0.0f;
-    const float ox = front ? nx : -nx, oy = front ? ny : -ny, oz = front ? nz : -nz;
-    w.onx[k] = ox, w.ony[k] = oy, w.onz[k] = oz;
-    const float ior = w.ior[k], inverse = 1.0f / ior;
-    w.eta[k] = front ? inverse : ior;
-    const float c = -w.ux[k] * ox + -w.uy[k] * oy + -w.uz[k] * oz;
-    w.cosine[k] = 1.0f < c ? 1.0f : c;
-    // Sky::radiance(dir), with normalize(dir).y the lane's uy.
-    const float a = 0.5f * (w.uy[k] + 1.0f);
-    // For a miss; a hit adds +0, which leaves a radiance sum's bits as they are (no sum of
-    // such terms is ever -0, and x + 0 == x bit for bit for every other x).
-    const float lr = w.tr[k] * ((1.0f - a) * horizon.x + a * zenith.x);
-    const float lg = w.tg[k] * ((1.0f - a) * horizon.y + a * zenith.y);
-    const float lb = w.tb[k] * ((1.0f - a) * horizon.z + a * zenith.z);
-    const bool hit = w.found[k];
-    w.sr[k] = hit ? 0.0f : lr, w.sg[k] = hit ? 0.0f : lg, w.sb[k] = hit ? 0.0f : lb;
-  }
-}
-
-// A dielectric's choice between reflection and refraction, drawn only where it may refract
-// (scatter()'s dielectric: a matched index is no interface, and takes no draw).
-void choose_reflection(Wavefront& w, std::size_t k) {
-  const float cosine = w.cosine[k], eta = w.eta[k];
-  const float sine = std::sqrt(0.0f < 1.0f - cosine * cosine ? 1.0f - cosine * cosine : 0.0f);
-  const bool cannot_refract = eta * sine > 1.0f;
-  if (cannot_refract || eta == 1.0f) {
-    w.reflects[k] = cannot_refract;
-    return;
-  }
-  w.counter[k] += PathRandom::kStep;
-  w.reflects[k] = schlick(cosine, eta) > PathRandom::at(w.counter[k]);
-}
-
-// Each path's draws, in the order scatter() makes them: a Lambertian and a fuzzed metal draw a
-// unit vector, a dielectric that may refract a uniform. A branch per material: drawing every
-// lane's candidates and selecting measured slower (the draws cost more than the mispredictions),
-// and listing the lanes by what they draw first measured no faster.
-void draw(Wavefront& w) {
-  for (std::size_t k = 0; k < w.live; ++k) {
-    const std::int32_t kind = w.kind[k];
-    w.reflects[k] = 0;
-    if (!w.found[k]) continue;
-    if (kind == kLambertian || (kind == kMetal && w.fuzz[k] > 0.0f)) {
-      const DiskPoint p = disk_point(w.counter[k]);
-      const float scale = 2.0f * std::sqrt(1.0f - p.s);
-      w.vx[k] = p.u * scale, w.vy[k] = p.v * scale, w.vz[k] = 1.0f - 2.0f * p.s;
-      w.counter[k] = p.counter;
-      continue;
-    }
-    w.vx[k] = w.vy[k] = w.vz[k] = 0.0f;
-    if (kind == kDielectric) choose_reflection(w, k);
-  }
-}
-
-// offset_origin(): the surface point moved past its error box along the outward normal, to the
-// side the new direction leaves by, each coordinate then stepped away from the point.
-void offset_origin(Wavefront& w, std::size_t k, float dx, float dy, float dz) {
-  const float nx = w.nx[k], ny = w.ny[k], nz = w.nz[k];  // outward
-  const float d = std::fabs(nx) * w.ex[k] + std::fabs(ny) * w.ey[k] + std::fabs(nz) * w.ez[k];
-  const bool inward = dx * nx + dy * ny + dz * nz < 0.0f;
-  const float fx = inward ? -(d * nx) : d * nx;
-  const float fy = inward ? -(d * ny) : d * ny;
-  const float fz = inward ? -(d * nz) : d * nz;
-  w.ox[k] = away(w.px[k] + fx, fx);
-  w.oy[k] = away(w.py[k] + fy, fy);
-  w.oz[k] = away(w.pz[k] + fz, fz);
-}
-
-// scatter()'s direction and attenuation for every lane, the three materials computed and one
-// selected, and spawn()'s origin of the next ray.
-void scatter_all(Wavefront& w) {
-  for (std::size_t k = 0; k < w.live; ++k) {
-    const float nx = w.onx[k], ny = w.ony[k], nz = w.onz[k];
-    const float ux = w.ux[k], uy = w.uy[k], uz = w.uz[k];
-    const float vx = w.vx[k], vy = w.vy[k], vz = w.vz[k];
-    // Lambertian: n + a unit vector, n itself where they nearly cancel.
-    const float lx = nx + vx, ly = ny + vy, lz = nz + vz;
-    // near_zero() as a sum of floats: GCC vectorises no && of float comparisons.
-    const float far_x = std::fabs(lx) < 1e-8f ? 0.0f : 1.0f;
-    const float far_y = std::fabs(ly) < 1e-8f ? 0.0f : 1.0f;
-    const float far_z = std::fabs(lz) < 1e-8f ? 0.0f : 1.0f;
-    const bool near_zero = far_x + far_y + far_z == 0.0f;
-    // Metal: the mirror direction, fuzzed; absorbed if that goes below the surface.
-    const float twice = 2.0f * (ux * nx + uy * ny + uz * nz);
-    const float rx = ux - twice * nx, ry = uy - twice * ny, rz = uz - twice * nz;
-    const float rlength = std::sqrt(rx * rx + ry * ry + rz * rz);
-    const float fuzz = w.fuzz[k];
-    const bool fuzzed = fuzz > 0.0f;
-    const float mx = fuzzed ? rx / rlength + fuzz * vx : rx;
-    const float my = fuzzed ? ry / rlength + fuzz * vy : ry;
-    const float mz = fuzzed ? rz / rlength + fuzz * vz : rz;
-    // Integers of one width, no bool: GCC vectorises no mix of them.
-    const std::int32_t below = mx * nx + my * ny + mz * nz <= 0.0f ? 1 : 0;
-    const std::int32_t absorbed = (w.kind[k] == kMetal ? 1 : 0) & below;
-    // Dielectric: the mirror direction or refract()'s.
-    const float eta = w.eta[k], cosine = w.cosine[k];
-    const float ax = eta * (ux + cosine * nx), ay = eta * (uy + cosine * ny),
-                az = eta * (uz + cosine * nz);
-    const float along = -std::sqrt(std::fabs(1.0f - (ax * ax + ay * ay + az * az)));
-    const bool reflects = w.reflects[k];
-    const float gx = reflects ? rx : ax + along * nx;
-    const float gy = reflects ? ry : ay + along * ny;
-    const float gz = reflects ? rz : az + along * nz;
-    const std::int32_t kind = w.kind[k];
-    const float dx = kind == kLambertian ? (near_zero ? nx : lx) : (kind == kMetal ? mx : gx);
-    const float dy = kind == kLambertian ? (near_zero ? ny : ly) : (kind == kMetal ? my : gy);
-    const float dz = kind == kLambertian ? (near_zero ? nz : lz) : (kind == kMetal ? mz : gz);
-    w.dx[k] = dx, w.dy[k] = dy, w.dz[k] = dz;
-    offset_origin(w, k, dx, dy, dz);
-    w.alive[k] = w.found[k] & (1 - absorbed);
-    w.tr[k] = w.tr[k] * w.ar[k], w.tg[k] = w.tg[k] * w.ag[k], w.tb[k] = w.tb[k] * w.ab[k];
-  }
-}
-
-// Misses hand their light to their pixel; the paths still going move to the front, their next
-// rays into the kernel's array. Written for every lane, kept only for the live ones: no branch.
-void compact(Wavefront& w, Vec3* radiance) {
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < w.live; ++k) {
-    const std::uint16_t s = w.slot[k];
-    radiance[s] += Vec3{w.sr[k], w.sg[k], w.sb[k]};
-    w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
-    w.tr[kept] = w.tr[k], w.tg[kept] = w.tg[k], w.tb[kept] = w.tb[k];
-    w.counter[kept] = w.counter[k];
-    w.slot[kept] = s;
-    kept += static_cast<std::size_t>(w.alive[k]);
-  }
-  w.live = kept;
 }
 
 }  // namespace
 
 ShadingTable::ShadingTable(const Scene& scene) {
   const SphereView view = scene.spheres.view();
-  rows_.resize(view.count + 1, SphereShading{0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 0, 1, kLambertian});
+  const auto lambertian = static_cast<std::int32_t>(MaterialKind::lambertian);
+  rows_.resize(view.count + 1, SphereShading{0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 0, 1, lambertian});
   for (std::uint32_t id = 0; id < view.count; ++id) {
     const Material m = material_of(scene, id);
     const float r = view.radius[id];
@@ -236,12 +59,15 @@ ShadingTable::ShadingTable(const Scene& scene) {
   }
 }
 
-void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance) {
-  gather(w, table);
-  surfaces(w, sky);
-  draw(w);
-  scatter_all(w);
-  compact(w, radiance);
+std::span<const ShadeClone> shade_clones() {
+  return kClones;
+}
+
+ShadeFunction shade_for(Isa active) {
+  for (const ShadeClone& clone : kClones) {
+    if (runs_on(clone.isa, active)) return clone.shade;
+  }
+  return &baseline::shade;
 }
 
 }  // namespace sphray::render

@@ -1,14 +1,16 @@
 // The path tracer's wavefront: a tile's live paths as one array per quantity, and their shading
 // (sphray::surface, scatter and sphray::spawn of material.hpp and sphray/query.hpp, for a whole
 // wavefront) in passes over those arrays. The float passes are plain loops without calls or
-// branches, which GCC vectorises at the baseline target; the random draws stay one path at a
-// time, from each path's counter. Every path gets the same float operations and the same draws
+// branches, which GCC vectorises; the build compiles them once per instruction set and the
+// tracer runs the widest copy (shade_for). The random draws stay one path at a time, from each
+// path's counter. Every path gets the same float operations and the same draws
 // in the same order as the one-path functions, so the images are the same bit for bit
 // (tests/render/wavefront_test.cpp compares them lane by lane).
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "sphray/render/material.hpp"
@@ -90,6 +92,34 @@ inline DiskPoint disk_point(std::uint64_t counter) {
 /// Shades the hits of the wavefront's live paths: a miss adds its sky light to
 /// radiance[slot]; a hit scatters by its sphere's material and, unless absorbed, stays live with
 /// its next ray (spawned as sphray::spawn does) and throughput. Packs the live paths again.
+using ShadeFunction = void (*)(Wavefront& w, const ShadingTable& table, const Sky& sky,
+                               Vec3* radiance);
+
+// The passes compiled once per instruction set (render/CMakeLists.txt: wavefront_passes.cpp),
+// with the same float operations in the same order: every copy gives the same bits. The
+// renderer names no instruction set in its code; the build gives the vector width.
+// A build defines only the copies it compiles (shade_clones() lists them).
+namespace baseline {
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance);
+}
+namespace sse4_2 {
+void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance);
+}
+namespace avx2 {
+void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance);
+}
+
+/// One copy of shade() and the instruction set it was compiled for (Isa::scalar: the baseline).
+struct ShadeClone {
+  Isa isa;
+  ShadeFunction shade;
+};
+
+/// The copies this build has, best first, the baseline last.
+std::span<const ShadeClone> shade_clones();
+
+/// The best copy that runs where the kernel's queries run on `active` (sphray::active_isa(),
+/// which SPHRAY_ISA can force lower).
+ShadeFunction shade_for(Isa active);
 
 }  // namespace sphray::render

@@ -1,12 +1,15 @@
-// The path tracer's wavefront shading (render/src/wavefront.hpp) against the one-path functions it
-// stands for: sphray::surface, scatter and sphray::spawn, Sky::radiance and PathRandom. Every
-// bounce of every path must agree bit for bit (next ray, throughput, random counter, the sky
-// light a miss brings), so that the images stay what the one-path renderer made.
+// The path tracer's wavefront shading (render/src/wavefront.hpp), each instruction set's copy,
+// against the one-path functions it stands for: sphray::surface, scatter and sphray::spawn,
+// Sky::radiance and PathRandom. Every bounce of every path must agree bit for bit (next ray,
+// throughput, random counter, the sky light a miss brings), so that the images stay what the
+// one-path renderer made.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "sphray/render/camera.hpp"
@@ -94,7 +97,7 @@ void expect_same(const std::vector<Path>& expected, const Wavefront& w) {
   }
 }
 
-void expect_bounces_agree(const Scene& scene, std::uint64_t seed) {
+void expect_bounces_agree(const Scene& scene, std::uint64_t seed, ShadeFunction shade) {
   const ShadingTable table(scene);
   const SphereView view = scene.spheres.view();
   std::vector<Path> paths = start(scene, seed);
@@ -114,9 +117,39 @@ void expect_bounces_agree(const Scene& scene, std::uint64_t seed) {
   }
 }
 
+// Every copy of the passes the build has (one per instruction set), whether or not the renderer
+// would pick it here: a copy this CPU cannot run is skipped.
+void expect_every_copy_agrees(const Scene& scene, std::uint64_t seed) {
+  const auto runs = supported_isas();
+  for (const ShadeClone& clone : shade_clones()) {
+    if (clone.isa != Isa::scalar && std::find(runs.begin(), runs.end(), clone.isa) == runs.end())
+      continue;
+    SCOPED_TRACE("passes for " + std::string(isa_name(clone.isa)));
+    expect_bounces_agree(scene, seed, clone.shade);
+  }
+}
+
+TEST(Wavefront, EveryInstructionSetsCopyIsListedAndPicked) {
+  const auto clones = shade_clones();
+  ASSERT_FALSE(clones.empty());
+  EXPECT_EQ(clones.back().isa, Isa::scalar);
+  EXPECT_EQ(shade_for(Isa::scalar), clones.back().shade);
+  // The best copy that runs on the queries' set: never one above it.
+  for (const ShadeClone& clone : clones) {
+    if (clone.isa != Isa::scalar) {
+      EXPECT_EQ(shade_for(clone.isa), clone.shade);
+    }
+  }
+#if defined(__x86_64__)
+  EXPECT_EQ(clones.size(), 3u);
+  EXPECT_EQ(shade_for(Isa::avx512), shade_for(Isa::avx2));
+  EXPECT_NE(shade_for(Isa::avx2), shade_for(Isa::sse4_2));
+#endif
+}
+
 TEST(Wavefront, MatchesTheOnePathFunctionsOnTheCover) {
-  expect_bounces_agree(make_preset("rtiow-final"), 1);
-  expect_bounces_agree(make_preset("rtiow-final"), 2);
+  expect_every_copy_agrees(make_preset("rtiow-final"), 1);
+  expect_every_copy_agrees(make_preset("rtiow-final"), 2);
 }
 
 // Every material's corner, spheres of each in turn: a metal without fuzz (no draw), a fuzzed
@@ -131,8 +164,8 @@ TEST(Wavefront, MatchesTheOnePathFunctionsOnEveryMaterial) {
   scene.materials.clear();
   for (std::size_t i = 0; i < scene.spheres.size(); ++i)
     scene.materials.push_back(kinds[i % std::size(kinds)]);
-  expect_bounces_agree(scene, 3);
-  expect_bounces_agree(scene, 4);
+  expect_every_copy_agrees(scene, 3);
+  expect_every_copy_agrees(scene, 4);
 }
 
 }  // namespace
