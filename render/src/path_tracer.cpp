@@ -72,12 +72,21 @@ struct Counters {
   RayCounts rays() const { return {camera.load(), bounce.load(), 0}; }
 };
 
-// Called with each wavefront the kernel traced, and its bounce (0: camera rays).
-using Recorder = std::function<void(int bounce, std::span<const Ray> rays)>;
+// Called with each wavefront the kernel traced, and its round (0: the first stream call). A
+// tracer given one sample at a time starts every path in round 0: the round is the bounce.
+using Recorder = std::function<void(int round, std::span<const Ray> rays)>;
 
-// Traces sample `sample` of every pixel of one tile, all of its paths together: per bounce one
-// stream call over the live paths, then each hit adds sky light or scatters. The live paths are
-// kept packed at the front of the arrays, in pixel order. Fixed-size buffers: no allocation.
+// The most samples of a tile traced in one call: its paths then number up to 256 times this, and
+// their light is kept apart (12 bytes each) until they are summed in sample order.
+constexpr int kSamplesPerPass = 16;
+static_assert(kWavefront * kSamplesPerPass <= 65536, "a path's entry must fit Wavefront::slot");
+
+// Traces samples [first, first + count) of every pixel of one tile, all of their paths through
+// one wavefront: per round one stream call over the live paths, then each hit adds sky light or
+// scatters. A path's light goes to its own entry (sample, pixel) and the entries are summed in
+// sample order at the end, so a pixel's sum has the same bits as one sample at a time. Paths
+// that end leave their lanes to the next samples' paths: the wavefront stays full until the
+// last paths start. Fixed-size buffers for the rays (the light's entries are allocated per call).
 class TileTracer {
  public:
   TileTracer(const Scene& scene, const Camera& camera, const RayQueries& queries,
@@ -89,62 +98,95 @@ class TileTracer {
         table_(scene),
         shade_(shade_for(active_isa())) {}
 
-  void trace(const Tile& tile, std::uint32_t sample, Vec3* sums, Counters& counters,
-             const Recorder* recorder) const {
+  void trace(const Tile& tile, std::uint32_t first, std::uint32_t count, Vec3* sums,
+             Counters& counters, const Recorder* recorder) const {
     const auto tile_start = Clock::now();
     Wavefront w;
-    std::array<Vec3, kTilePixels> radiance{};
-    start_paths(tile, sample, w);
-    const std::size_t n = w.live;
+    const std::size_t pixels = tile.pixels();
+    const std::size_t paths = pixels * count;
+    std::vector<Vec3> radiance(paths, Vec3{0, 0, 0});
+    PathCursor next{tile, first};
     std::int64_t kernel_ns = 0;
-    std::uint64_t bounce_rays = 0;
-    for (int bounce = 0; bounce < options_.max_depth && w.live > 0; ++bounce) {
-      const auto rays = std::span(w.rays.data(), w.live);
+    std::uint64_t rays = 0;
+    for (int round = 0;; ++round) {
+      const std::size_t bouncing = w.live;
+      start_paths(tile, paths, next, w);
+      if (w.live == 0) break;
       const auto kernel_start = Clock::now();
-      queries_.intersect(rays, std::span(w.hits.data(), w.live));
+      // The new paths' camera rays in a call of their own: the kernel looks for coherent groups
+      // of rays from a call's start, and camera rays from neighbouring pixels are (bvh packets).
+      intersect(w, 0, bouncing);
+      intersect(w, bouncing, w.live);
       kernel_ns +=
           std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - kernel_start).count();
-      if (recorder != nullptr) (*recorder)(bounce, rays);
-      if (bounce > 0) bounce_rays += w.live;
-      // Paths still going after max_depth rays carry no light, as in the book.
+      if (recorder != nullptr) (*recorder)(round, std::span(w.rays.data(), w.live));
+      rays += w.live;
       shade_(w, table_, scene_.sky, radiance.data());
     }
-    for (std::size_t i = 0; i < n; ++i)
-      sums[i] += radiance[i];
-    counters.camera += n;
-    counters.bounce += bounce_rays;
+    for (std::size_t sample = 0; sample < count; ++sample) {
+      for (std::size_t i = 0; i < pixels; ++i)
+        sums[i] += radiance[sample * pixels + i];
+    }
+    counters.camera += paths;
+    counters.bounce += rays - paths;
     counters.kernel_ns += kernel_ns;
     counters.trace_ns +=
         std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - tile_start).count();
   }
 
  private:
+  // The next path to start: its entry (sample first + s, pixel i of the tile: s * pixels + i),
+  // and its pixel's coordinates, advanced pixel by pixel in row order, then sample by sample.
+  struct PathCursor {
+    PathCursor(const Tile& tile, std::uint32_t first)
+        : path(0), pixel(0), sample(first), x(tile.x0), y(tile.y0) {}
+    void advance(const Tile& tile) {
+      ++path, ++pixel, ++x;
+      if (x < tile.x0 + tile.width) return;
+      x = tile.x0, ++y;
+      if (pixel < tile.pixels()) return;
+      pixel = 0, y = tile.y0, ++sample;
+    }
+    std::size_t path, pixel;
+    std::uint32_t sample;
+    int x, y;
+  };
+
+  void intersect(Wavefront& w, std::size_t begin, std::size_t end) const {
+    if (begin == end) return;
+    queries_.intersect(std::span(w.rays.data() + begin, end - begin),
+                       std::span(w.hits.data() + begin, end - begin));
+  }
+
   std::uint64_t pixel_index(int x, int y) const {
     return static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(options_.width) +
            static_cast<std::uint64_t>(x);
   }
 
-  // Every pixel's camera ray: a point drawn uniformly in the pixel, as the book's sample_square
+  // Starts paths from next on in the lanes behind the live paths, in whole groups of 32 lanes
+  // (the kernel's coherent group) while more than that are left to start.
+  // Each path's camera ray: a point drawn uniformly in the pixel, as the book's sample_square
   // does, and one on the lens when the camera has defocus blur, the path's first draws.
-  void start_paths(const Tile& tile, std::uint32_t sample, Wavefront& w) const {
-    w.live = 0;
-    for (int y = tile.y0; y < tile.y0 + tile.height; ++y) {
-      for (int x = tile.x0; x < tile.x0 + tile.width; ++x) {
-        const std::size_t i = w.live++;
-        PathRandom random(options_.seed, pixel_index(x, y), sample);
-        const float px = static_cast<float>(x) + random.uniform();
-        const float py = static_cast<float>(y) + random.uniform();
-        w.counter[i] = random.counter();
-        if (camera_.has_defocus()) {
-          const DiskPoint lens = disk_point(w.counter[i]);
-          w.counter[i] = lens.counter;
-          w.rays[i] = camera_.ray(px, py, lens.u, lens.v);
-        } else {
-          w.rays[i] = camera_.ray(px, py);
-        }
-        w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
-        w.slot[i] = static_cast<std::uint16_t>(i);
+  void start_paths(const Tile& tile, std::size_t paths, PathCursor& next, Wavefront& w) const {
+    constexpr std::size_t kGroup = 32;
+    const std::size_t free = kWavefront - w.live;
+    const std::size_t starts = std::min(paths - next.path, free - free % kGroup);
+    for (std::size_t n = 0; n < starts; ++n, next.advance(tile)) {
+      const std::size_t i = w.live++;
+      PathRandom random(options_.seed, pixel_index(next.x, next.y), next.sample);
+      const float px = static_cast<float>(next.x) + random.uniform();
+      const float py = static_cast<float>(next.y) + random.uniform();
+      w.counter[i] = random.counter();
+      if (camera_.has_defocus()) {
+        const DiskPoint lens = disk_point(w.counter[i]);
+        w.counter[i] = lens.counter;
+        w.rays[i] = camera_.ray(px, py, lens.u, lens.v);
+      } else {
+        w.rays[i] = camera_.ray(px, py);
       }
+      w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
+      w.rays_left[i] = options_.max_depth;
+      w.slot[i] = static_cast<std::uint16_t>(next.path);
     }
   }
 
@@ -158,6 +200,17 @@ class TileTracer {
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// How many samples the next pass traces, done of spp having taken elapsed seconds: up to
+// kSamplesPerPass at once; under a time limit one first, then as many as the time left allows
+// at the rate so far (at least one), so that a pass ends about when the time is up.
+int samples_in_next_pass(int done, int spp, double elapsed, double time_limit) {
+  const int most = std::min(kSamplesPerPass, spp - done);
+  if (time_limit <= 0.0) return most;
+  if (done == 0) return 1;
+  const double fit = (time_limit - elapsed) * static_cast<double>(done) / elapsed;
+  return std::clamp(static_cast<int>(std::min(fit, double{kSamplesPerPass})), 1, most);
 }
 
 }  // namespace
@@ -191,32 +244,36 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RayQueries& queries,
   std::vector<Vec3> sums(tiles * kTilePixels, Vec3{0, 0, 0});
   Counters counters;
   const std::size_t total = tiles * static_cast<std::size_t>(options.spp);
-  const auto trace_tiles = [&](std::uint32_t sample, std::size_t begin, std::size_t end) {
+  const auto trace_tiles = [&](std::uint32_t first, std::uint32_t count, std::size_t begin,
+                               std::size_t end) {
     for (std::size_t t = begin; t != end; ++t) {
-      tracer.trace(tile_at(t, options.width, options.height), sample, &sums[t * kTilePixels],
+      tracer.trace(tile_at(t, options.width, options.height), first, count, &sums[t * kTilePixels],
                    counters, nullptr);
-      const std::size_t done = ++counters.tiles_done;
+      const std::size_t done = counters.tiles_done += count;  // tiles times samples
       if (progress) progress(done, total, counters.rays());
     }
   };
 
-  // One pass per sample over every tile: a time limit is checked between passes, so every
-  // pixel gets the same number of samples (at least one), and a pass is never cut short.
+  // Passes over every tile, each of up to kSamplesPerPass samples: a time limit is checked
+  // between passes, so every pixel gets the same number of samples (at least one), and a pass
+  // is never cut short.
   const auto start = Clock::now();
-  int passes = 0;
+  int passes = 0;  // the samples traced so far
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   while (passes < options.spp) {
-    const auto sample = static_cast<std::uint32_t>(passes);
+    const auto first = static_cast<std::uint32_t>(passes);
+    const auto count = static_cast<std::uint32_t>(
+        samples_in_next_pass(passes, options.spp, seconds_since(start), options.time_limit));
     if (queries.collective()) {
-      trace_tiles(sample, 0, tiles);  // every process the same calls in the same order
+      trace_tiles(first, count, 0, tiles);  // every process the same calls in the same order
     } else {
       arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles, 1), [&](const auto& range) {
-          trace_tiles(sample, range.begin(), range.end());
+          trace_tiles(first, count, range.begin(), range.end());
         });
       });
     }
-    ++passes;
+    passes += static_cast<int>(count);
     if (options.time_limit > 0.0 && seconds_since(start) >= options.time_limit) break;
   }
   const double seconds = seconds_since(start);
@@ -288,9 +345,10 @@ std::vector<Ray> record_path_rays(const Scene& scene, const RenderOptions& optio
   const std::size_t tiles = tile_count(options.width, options.height);
   std::array<Vec3, kTilePixels> sums{};
   Counters counters;
+  // One sample per call: every path starts in round 0, so a round is the paths' bounce.
   for (int s = 0; s < options.spp; ++s) {
     for (std::size_t t = 0; t < tiles; ++t)
-      tracer.trace(tile_at(t, options.width, options.height), static_cast<std::uint32_t>(s),
+      tracer.trace(tile_at(t, options.width, options.height), static_cast<std::uint32_t>(s), 1,
                    sums.data(), counters, &recorder);
   }
   return recorded;

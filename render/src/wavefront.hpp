@@ -49,14 +49,15 @@ template <class T>
 using Lanes = std::array<T, kWavefront + 64 / sizeof(T)>;
 
 /// A tile's paths: rays and hits for the kernel's stream call, the rest one array per quantity.
-/// The live paths are packed at the front, in pixel order. 63 KiB: the tracer keeps one on
-/// its thread's stack per tile and sample.
+/// The live paths are packed at the front; the tracer fills the lanes behind them with new paths.
+/// 63 KiB: the tracer keeps one on its thread's stack per tile and sample.
 struct Wavefront {
   std::array<Ray, kWavefront> rays;
   std::array<Hit, kWavefront> hits;
   alignas(64) Lanes<float> tr, tg, tb;  // throughput
   Lanes<std::uint64_t> counter;         // each path's PathRandom counter
-  Lanes<std::uint16_t> slot;            // the path's pixel within the tile
+  Lanes<std::int32_t> rays_left;        // the rays the path may still trace, this one included
+  Lanes<std::uint16_t> slot;            // where the path's light goes (its radiance entry)
   std::size_t live = 0;
 
   // One bounce's scratch, written and read by shade().
@@ -90,8 +91,9 @@ inline DiskPoint disk_point(std::uint64_t counter) {
 }
 
 /// Shades the hits of the wavefront's live paths: a miss adds its sky light to
-/// radiance[slot]; a hit scatters by its sphere's material and, unless absorbed, stays live with
-/// its next ray (spawned as sphray::spawn does) and throughput. Packs the live paths again.
+/// radiance[slot]; a hit scatters by its sphere's material and, unless absorbed or out of rays
+/// (rays_left 1), stays live with its next ray (spawned as sphray::spawn does), throughput and
+/// one ray fewer left. Packs the live paths again, in the order they were.
 using ShadeFunction = void (*)(Wavefront& w, const ShadingTable& table, const Sky& sky,
                                Vec3* radiance);
 

@@ -190,7 +190,10 @@ void scatter_all(Wavefront& w) {
     const float dz = kind == kLambertian ? (near_zero ? nz : lz) : (kind == kMetal ? mz : gz);
     w.dx[k] = dx, w.dy[k] = dy, w.dz[k] = dz;
     offset_origin(w, k, dx, dy, dz);
-    w.alive[k] = w.found[k] & (1 - absorbed);
+    // A path that traced its last ray brings no light, as the book's max_depth.
+    const std::int32_t more = w.rays_left[k] > 1 ? 1 : 0;
+    w.alive[k] = w.found[k] & (1 - absorbed) & more;
+    w.rays_left[k] = w.rays_left[k] - 1;
     w.tr[k] = w.tr[k] * w.ar[k], w.tg[k] = w.tg[k] * w.ag[k], w.tb[k] = w.tb[k] * w.ab[k];
   }
 }
@@ -205,6 +208,7 @@ void compact(Wavefront& w, Vec3* radiance) {
     w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
     w.tr[kept] = w.tr[k], w.tg[kept] = w.tg[k], w.tb[kept] = w.tb[k];
     w.counter[kept] = w.counter[k];
+    w.rays_left[kept] = w.rays_left[k];
     w.slot[kept] = s;
     kept += static_cast<std::size_t>(w.alive[k]);
   }

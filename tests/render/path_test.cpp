@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "sphray/render/camera.hpp"
+#include "sphray/render/material.hpp"
 #include "sphray/render/path_tracer.hpp"
 #include "sphray/render/renderer.hpp"
 
@@ -216,6 +218,61 @@ TEST(PathDeterminism, SameBitsWhateverTheThreadCount) {
   EXPECT_TRUE(same_bits(one, render_radiance(scene, o)));
 }
 
+// One path with the one-path functions, as the renderer traced them before its wavefront: the
+// light that sample `sample` of pixel (x, y) brings.
+Vec3 one_path(const Scene& scene, const Camera& camera, const RenderOptions& o, int x, int y,
+              std::uint32_t sample) {
+  const SphereView view = scene.spheres.view();
+  PathRandom random(o.seed, static_cast<std::uint64_t>(y) * o.width + x, sample);
+  const float px = static_cast<float>(x) + random.uniform();
+  const float py = static_cast<float>(y) + random.uniform();
+  Ray ray = camera.ray(px, py);
+  if (camera.has_defocus()) {
+    const Vec3 lens = random.in_unit_disk();
+    ray = camera.ray(px, py, lens.x, lens.y);
+  }
+  Vec3 throughput{1, 1, 1};
+  for (int depth = 0; depth < o.max_depth; ++depth) {
+    const Hit hit = intersect(view, ray);
+    if (!hit.found()) return throughput * scene.sky.radiance(ray.dir);
+    const Surface at = surface(view, ray, hit);
+    const auto scattered = scatter(material_of(scene, hit.id), ray.dir, at, random);
+    if (!scattered) break;
+    throughput = throughput * scattered->attenuation;
+    ray = spawn(at, scattered->direction);
+  }
+  return {0, 0, 0};
+}
+
+// The whole tracer against paths traced one at a time, each pixel's samples summed in sample
+// order: the same bits, with many samples per pass (paths of later samples taking the lanes of
+// ended ones) and partial tiles, and with a depth limit that cuts paths at different rounds.
+void expect_same_as_one_path_at_a_time(const Scene& scene, RenderOptions o) {
+  const Camera camera(scene.camera, o.width, o.height);
+  const std::vector<Vec3> image = render_radiance(scene, o);
+  std::vector<Vec3> expected;
+  for (int y = 0; y < o.height; ++y) {
+    for (int x = 0; x < o.width; ++x) {
+      Vec3 sum{0, 0, 0};
+      for (int s = 0; s < o.spp; ++s)
+        sum += one_path(scene, camera, o, x, y, static_cast<std::uint32_t>(s));
+      expected.push_back(sum * (1.0f / static_cast<float>(o.spp)));
+    }
+  }
+  EXPECT_TRUE(same_bits(expected, image));
+}
+
+TEST(PathDeterminism, SameBitsAsOnePathAtATime) {
+  RenderOptions o = path_options(40, 24, 21);  // 3 x 2 tiles, 21 samples: more than one pass
+  o.seed = 5;
+  o.threads = 2;
+  expect_same_as_one_path_at_a_time(make_preset("rtiow-final"), o);
+  o.max_depth = 3;
+  expect_same_as_one_path_at_a_time(make_preset("rtiow-final"), o);
+  o.spp = 3;
+  expect_same_as_one_path_at_a_time(make_preset("random:300"), o);
+}
+
 // A time limit that is up at once still leaves one full sample for every pixel: the image is
 // the 1-spp image, bit for bit.
 TEST(PathTimeLimit, StopsBetweenSamplesWithEqualSamplesEverywhere) {
@@ -245,7 +302,9 @@ TEST(PathProgress, CountsTilesTimesSamplesAndRaysOfEveryKind) {
         EXPECT_EQ(rays.shadow, 0u);
       },
       &stats);
-  EXPECT_EQ(calls, 3u * 2u * 3u);  // ceil(40/16) * ceil(20/16) tiles, 3 samples
+  // ceil(40/16) * ceil(20/16) tiles, each called once for its 3 samples; the count is of tiles
+  // times samples.
+  EXPECT_EQ(calls, 3u * 2u);
   EXPECT_EQ(last_total, 18u);
   EXPECT_EQ(stats.camera_rays, 40u * 20u * 3u);
   EXPECT_EQ(most_camera, stats.camera_rays);

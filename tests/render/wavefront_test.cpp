@@ -35,6 +35,7 @@ struct Path {
   Vec3 throughput;
   PathRandom random;
   std::uint16_t slot;
+  std::int32_t rays_left;  // this one included
 };
 
 // Advances the paths one bounce with the one-path functions, as the renderer did before the
@@ -52,9 +53,9 @@ std::vector<Path> reference_bounce(const Scene& scene, const std::vector<Path>& 
     const Surface s = surface(view, path.ray, hit);
     PathRandom random = path.random;
     const auto scattered = scatter(material_of(scene, hit.id), path.ray.dir, s, random);
-    if (!scattered) continue;
+    if (!scattered || path.rays_left == 1) continue;  // absorbed, or its last ray traced
     next.push_back({spawn(s, scattered->direction), path.throughput * scattered->attenuation,
-                    random, path.slot});
+                    random, path.slot, path.rays_left - 1});
   }
   return next;
 }
@@ -68,7 +69,9 @@ std::vector<Path> start(const Scene& scene, std::uint64_t seed) {
     PathRandom random(seed, i, 7);
     const float px = 160.0f * random.uniform(), py = 90.0f * random.uniform();
     const Vec3 throughput{random.uniform(), random.uniform(), random.uniform()};
-    paths.push_back({camera.ray(px, py), throughput, random, i});
+    // Some paths run out of rays before the test's 12 bounces are up.
+    const std::int32_t rays_left = 4 + i % 16;
+    paths.push_back({camera.ray(px, py), throughput, random, i, rays_left});
   }
   return paths;
 }
@@ -80,6 +83,7 @@ void load(const std::vector<Path>& paths, Wavefront& w) {
     w.tr[k] = paths[k].throughput.x, w.tg[k] = paths[k].throughput.y;
     w.tb[k] = paths[k].throughput.z;
     w.counter[k] = paths[k].random.counter();
+    w.rays_left[k] = paths[k].rays_left;
     w.slot[k] = paths[k].slot;
   }
 }
@@ -94,6 +98,7 @@ void expect_same(const std::vector<Path>& expected, const Wavefront& w) {
     expect_same(expected[k].throughput, {w.tr[k], w.tg[k], w.tb[k]}, "throughput", k);
     EXPECT_EQ(expected[k].random.counter(), w.counter[k]) << "lane " << k;
     EXPECT_EQ(expected[k].slot, w.slot[k]) << "lane " << k;
+    EXPECT_EQ(expected[k].rays_left, w.rays_left[k]) << "lane " << k;
   }
 }
 

@@ -1,8 +1,9 @@
 // Path mode: a unidirectional path tracer in the spirit of Ray Tracing in One Weekend, built on
-// the kernel's public calls alone. Per 16x16 tile and sample, the tile's paths advance as one
-// wavefront: every bounce is one stream call (sphray::intersect over the tile's live rays,
-// through the BVH on large scenes), each hit scatters by its sphere's material, and each next
-// ray starts at sphray::spawn(), never inside the sphere it leaves.
+// the kernel's public calls alone. Per 16x16 tile and pass of up to 16 samples, the tile's paths
+// advance as one wavefront of 256 lanes, the paths of later samples taking the lanes of ended
+// ones: every round is a stream call (sphray::intersect over the live rays, through the BVH on
+// large scenes), each hit scatters by its sphere's material, and each next ray starts at
+// sphray::spawn(), never inside the sphere it leaves.
 //
 // Deterministic: every random number comes from (seed, pixel, sample, bounce) alone, each
 // pixel's samples are summed in sample order by one thread, so the image is the same bit for
