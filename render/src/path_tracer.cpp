@@ -96,7 +96,8 @@ class TileTracer {
         queries_(queries),
         options_(options),
         table_(scene),
-        shade_(shade_for(active_isa())) {}
+        passes_(clone_for(active_isa())),
+        seed_hash_(PathRandom::seed_hash(options.seed)) {}
 
   void trace(const Tile& tile, std::uint32_t first, std::uint32_t count, Vec3* sums,
              Counters& counters, const Recorder* recorder) const {
@@ -121,7 +122,7 @@ class TileTracer {
           std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - kernel_start).count();
       if (recorder != nullptr) (*recorder)(round, std::span(w.rays.data(), w.live));
       rays += w.live;
-      shade_(w, table_, scene_.sky, radiance.data());
+      passes_.shade(w, table_, scene_.sky, radiance.data());
     }
     for (std::size_t sample = 0; sample < count; ++sample) {
       for (std::size_t i = 0; i < pixels; ++i)
@@ -164,30 +165,23 @@ class TileTracer {
   }
 
   // Starts paths from next on in the lanes behind the live paths, in whole groups of 32 lanes
-  // (the kernel's coherent group) while more than that are left to start.
-  // Each path's camera ray: a point drawn uniformly in the pixel, as the book's sample_square
-  // does, and one on the lens when the camera has defocus blur, the path's first draws.
+  // (the kernel's coherent group) while more than that are left to start. Here each lane's
+  // pixel, sample and entry; the passes' start() draws the camera rays, all lanes together.
   void start_paths(const Tile& tile, std::size_t paths, PathCursor& next, Wavefront& w) const {
     constexpr std::size_t kGroup = 32;
-    const std::size_t free = kWavefront - w.live;
+    const std::size_t begin = w.live;
+    const std::size_t free = kWavefront - begin;
     const std::size_t starts = std::min(paths - next.path, free - free % kGroup);
-    for (std::size_t n = 0; n < starts; ++n, next.advance(tile)) {
-      const std::size_t i = w.live++;
-      PathRandom random(options_.seed, pixel_index(next.x, next.y), next.sample);
-      const float px = static_cast<float>(next.x) + random.uniform();
-      const float py = static_cast<float>(next.y) + random.uniform();
-      w.counter[i] = random.counter();
-      if (camera_.has_defocus()) {
-        const DiskPoint lens = disk_point(w.counter[i]);
-        w.counter[i] = lens.counter;
-        w.rays[i] = camera_.ray(px, py, lens.u, lens.v);
-      } else {
-        w.rays[i] = camera_.ray(px, py);
-      }
+    for (std::size_t i = begin; i < begin + starts; ++i, next.advance(tile)) {
+      w.key[i] = pixel_index(next.x, next.y);
+      w.sample[i] = next.sample;
+      w.px[i] = static_cast<float>(next.x), w.py[i] = static_cast<float>(next.y);
       w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
       w.rays_left[i] = options_.max_depth;
       w.slot[i] = static_cast<std::uint16_t>(next.path);
     }
+    w.live = begin + starts;
+    if (starts > 0) passes_.start(w, begin, camera_, seed_hash_);
   }
 
   const Scene& scene_;
@@ -195,7 +189,8 @@ class TileTracer {
   const RayQueries& queries_;
   const RenderOptions& options_;
   ShadingTable table_;
-  ShadeFunction shade_;  // the passes' copy for the widest vectors the queries use
+  const ShadeClone& passes_;  // the passes' copy for the widest vectors the queries use
+  std::uint64_t seed_hash_;
 };
 
 double seconds_since(Clock::time_point start) {

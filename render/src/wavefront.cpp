@@ -1,6 +1,7 @@
 #include "wavefront.hpp"
 
 #include <cmath>
+#include <iterator>
 
 namespace sphray::render {
 namespace {
@@ -13,12 +14,12 @@ constexpr float kGamma16 = 16.0f * 0x1p-24f / (1.0f - 16.0f * 0x1p-24f);
 // The copies of the passes this build has, best first (render/CMakeLists.txt).
 constexpr ShadeClone kClones[] = {
 #if SPHRAY_SHADE_HAS_AVX2
-    {Isa::avx2, &avx2::shade},
+    {Isa::avx2, &avx2::shade, &avx2::start},
 #endif
 #if SPHRAY_SHADE_HAS_SSE4_2
-    {Isa::sse4_2, &sse4_2::shade},
+    {Isa::sse4_2, &sse4_2::shade, &sse4_2::start},
 #endif
-    {Isa::scalar, &baseline::shade},
+    {Isa::scalar, &baseline::shade, &baseline::start},
 };
 
 // Whether a copy built for `clone` runs where the kernel runs `active`: x86's sets nest.
@@ -63,11 +64,11 @@ std::span<const ShadeClone> shade_clones() {
   return kClones;
 }
 
-ShadeFunction shade_for(Isa active) {
+const ShadeClone& clone_for(Isa active) {
   for (const ShadeClone& clone : kClones) {
-    if (runs_on(clone.isa, active)) return clone.shade;
+    if (runs_on(clone.isa, active)) return clone;
   }
-  return &baseline::shade;
+  return kClones[std::size(kClones) - 1];
 }
 
 }  // namespace sphray::render

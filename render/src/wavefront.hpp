@@ -13,6 +13,7 @@
 #include <span>
 #include <vector>
 
+#include "sphray/render/camera.hpp"
 #include "sphray/render/material.hpp"
 #include "sphray/render/renderer.hpp"
 #include "sphray/render/scene.hpp"
@@ -69,7 +70,10 @@ struct Wavefront {
   alignas(64) Lanes<float> ux, uy, uz;              // the unit incoming direction
   alignas(64) Lanes<float> sr, sg, sb;              // sky light a miss brings
   alignas(64) Lanes<float> eta, cosine, vx, vy, vz;
-  alignas(64) Lanes<std::int32_t> reflects;
+  alignas(64) Lanes<std::int32_t> reflects, redraw;
+  Lanes<std::uint16_t> listed;           // the lanes draw() finishes one at a time
+  alignas(64) Lanes<std::uint64_t> key;  // a new path's pixel index in the image
+  Lanes<std::uint32_t> sample;           // and its sample
 };
 
 /// The first point (u, v) of the unit disk, u^2 + v^2 = s < 1, that PathRandom::unit_vector and
@@ -97,24 +101,35 @@ inline DiskPoint disk_point(std::uint64_t counter) {
 using ShadeFunction = void (*)(Wavefront& w, const ShadingTable& table, const Sky& sky,
                                Vec3* radiance);
 
+/// Starts the paths in lanes [begin, live): from each lane's key (pixel index), sample and
+/// pixel corner (px, py), its PathRandom counter past the camera's draws and its camera ray,
+/// as PathRandom(seed, key, sample) then camera.ray(x + uniform, y + uniform, in_unit_disk()
+/// when the camera has defocus) make them. seed_hash is PathRandom::seed_hash(seed).
+using StartFunction = void (*)(Wavefront& w, std::size_t begin, const Camera& camera,
+                               std::uint64_t seed_hash);
+
 // The passes compiled once per instruction set (render/CMakeLists.txt: wavefront_passes.cpp),
 // with the same float operations in the same order: every copy gives the same bits. The
 // renderer names no instruction set in its code; the build gives the vector width.
 // A build defines only the copies it compiles (shade_clones() lists them).
 namespace baseline {
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance);
-}
+void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t seed_hash);
+}  // namespace baseline
 namespace sse4_2 {
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance);
-}
+void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t seed_hash);
+}  // namespace sse4_2
 namespace avx2 {
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance);
-}
+void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t seed_hash);
+}  // namespace avx2
 
 /// One copy of shade() and the instruction set it was compiled for (Isa::scalar: the baseline).
 struct ShadeClone {
   Isa isa;
   ShadeFunction shade;
+  StartFunction start;
 };
 
 /// The copies this build has, best first, the baseline last.
@@ -122,6 +137,9 @@ std::span<const ShadeClone> shade_clones();
 
 /// The best copy that runs where the kernel's queries run on `active` (sphray::active_isa(),
 /// which SPHRAY_ISA can force lower).
-ShadeFunction shade_for(Isa active);
+const ShadeClone& clone_for(Isa active);
+inline ShadeFunction shade_for(Isa active) {
+  return clone_for(active).shade;
+}
 
 }  // namespace sphray::render

@@ -5,6 +5,8 @@
 // (tests/render/wavefront_test.cpp runs each one).
 #include "wavefront.hpp"
 
+#include "sphray/render/camera.hpp"
+
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -114,24 +116,54 @@ void choose_reflection(Wavefront& w, std::size_t k) {
   w.reflects[k] = schlick(cosine, eta) > PathRandom::at(w.counter[k]);
 }
 
+// PathRandom::at, with the top 24 bits converted through int32 (exact either way): the
+// conversion from 64-bit integers has no vector form before AVX-512.
+float uniform_at(std::uint64_t counter) {
+  return static_cast<float>(static_cast<std::int32_t>(PathRandom::mix(counter) >> 40)) * 0x1p-24f;
+}
+
 // Each path's draws, in the order scatter() makes them: a Lambertian and a fuzzed metal draw a
-// unit vector, a dielectric that may refract a uniform. A branch per material: drawing every
-// lane's candidates and selecting measured slower (the draws cost more than the mispredictions),
-// and listing the lanes by what they draw first measured no faster.
+// unit vector, a dielectric that may refract a uniform. First every lane's first point of the
+// disk, in one loop that vectorises (kept where a unit vector was wanted and the point lies
+// inside, pi/4 of them); then, one lane at a time, the rest: the rejected points' next tries and
+// the dielectrics. (The same draws before, with one branch per material, cost more: the draws
+// then ran one lane at a time.)
 void draw(Wavefront& w) {
-  for (std::size_t k = 0; k < w.live; ++k) {
+  constexpr std::uint64_t kStep = PathRandom::kStep;
+  const std::size_t live = w.live;  // a copy: the counters' stores could alias it, as integers
+  for (std::size_t k = 0; k < live; ++k) {
+    const std::uint64_t counter = w.counter[k];
+    const float u = 2.0f * uniform_at(counter + kStep) - 1.0f;
+    const float v = 2.0f * uniform_at(counter + 2 * kStep) - 1.0f;
+    const float s = u * u + v * v;
     const std::int32_t kind = w.kind[k];
+    const std::int32_t fuzzed = (kind == kMetal ? 1 : 0) & (w.fuzz[k] > 0.0f ? 1 : 0);
+    const std::int32_t wants = w.found[k] & ((kind == kLambertian ? 1 : 0) | fuzzed);
+    const std::int32_t inside = s < 1.0f ? 1 : 0;
+    const std::int32_t drawn = wants & inside;
+    const float scale = 2.0f * std::sqrt(1.0f - s);
+    w.vx[k] = drawn ? u * scale : 0.0f;
+    w.vy[k] = drawn ? v * scale : 0.0f;
+    w.vz[k] = drawn ? 1.0f - 2.0f * s : 0.0f;
+    w.counter[k] = drawn ? counter + 2 * kStep : counter;
     w.reflects[k] = 0;
-    if (!w.found[k]) continue;
-    if (kind == kLambertian || (kind == kMetal && w.fuzz[k] > 0.0f)) {
-      const DiskPoint p = disk_point(w.counter[k]);
-      const float scale = 2.0f * std::sqrt(1.0f - p.s);
-      w.vx[k] = p.u * scale, w.vy[k] = p.v * scale, w.vz[k] = 1.0f - 2.0f * p.s;
-      w.counter[k] = p.counter;
+    w.redraw[k] = (wants & (1 - inside)) | (w.found[k] & (kind == kDielectric ? 1 : 0));
+  }
+  std::size_t count = 0;  // the lanes to redraw, listed without a branch
+  for (std::size_t k = 0; k < w.live; ++k) {
+    w.listed[count] = static_cast<std::uint16_t>(k);
+    count += static_cast<std::size_t>(w.redraw[k]);
+  }
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::size_t k = w.listed[j];
+    if (w.kind[k] == kDielectric) {
+      choose_reflection(w, k);
       continue;
     }
-    w.vx[k] = w.vy[k] = w.vz[k] = 0.0f;
-    if (kind == kDielectric) choose_reflection(w, k);
+    const DiskPoint p = disk_point(w.counter[k] + 2 * kStep);  // past the rejected point
+    const float scale = 2.0f * std::sqrt(1.0f - p.s);
+    w.vx[k] = p.u * scale, w.vy[k] = p.v * scale, w.vz[k] = 1.0f - 2.0f * p.s;
+    w.counter[k] = p.counter;
   }
 }
 
@@ -215,7 +247,50 @@ void compact(Wavefront& w, Vec3* radiance) {
   w.live = kept;
 }
 
+// The rejected lens points' next tries, one lane at a time: their draws go on past the first
+// point (the path's fourth draw).
+void redraw_lens(Wavefront& w, std::size_t begin) {
+  std::size_t count = 0;  // listed without a branch
+  for (std::size_t k = begin; k < w.live; ++k) {
+    w.listed[count] = static_cast<std::uint16_t>(k);
+    count += static_cast<std::size_t>(w.redraw[k]);
+  }
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::size_t k = w.listed[j];
+    const DiskPoint p = disk_point(w.counter[k]);
+    w.vx[k] = p.u, w.vy[k] = p.v;
+    w.counter[k] = p.counter;
+  }
+}
+
 }  // namespace
+
+void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t seed_hash) {
+  constexpr std::uint64_t kStep = PathRandom::kStep;
+  const std::size_t live = w.live;  // a copy: the counters' stores could alias it, as integers
+  const bool lens = camera.has_defocus();
+  const std::int32_t uses_lens = lens ? 1 : 0;
+  const std::uint64_t past = lens ? 4 * kStep : 2 * kStep;  // the draws taken below
+  // The path's random stream (PathRandom's constructor, its seed's mix given), the point in the
+  // pixel and the first point of the lens disk.
+  for (std::size_t k = begin; k < live; ++k) {
+    const std::uint64_t counter =
+        PathRandom::mix(PathRandom::mix(seed_hash ^ w.key[k]) ^ (std::uint64_t{w.sample[k]} << 32));
+    w.px[k] = w.px[k] + uniform_at(counter + kStep);
+    w.py[k] = w.py[k] + uniform_at(counter + 2 * kStep);
+    const float u = 2.0f * uniform_at(counter + 3 * kStep) - 1.0f;
+    const float v = 2.0f * uniform_at(counter + 4 * kStep) - 1.0f;
+    const std::int32_t inside = u * u + v * v < 1.0f ? 1 : 0;
+    w.vx[k] = u, w.vy[k] = v;
+    w.redraw[k] = (1 - inside) & uses_lens;
+    // A rejected point's lane goes on from its counter in redraw_lens.
+    w.counter[k] = counter + past;
+  }
+  if (lens) redraw_lens(w, begin);
+  const Camera copy = camera;  // a local: no store to the lanes can change it
+  for (std::size_t k = begin; k < live; ++k)
+    w.rays[k] = copy.ray(w.px[k], w.py[k], w.vx[k], w.vy[k]);  // the pinhole's without a lens
+}
 
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance) {
   gather(w, table);

@@ -173,5 +173,50 @@ TEST(Wavefront, MatchesTheOnePathFunctionsOnEveryMaterial) {
   expect_every_copy_agrees(scene, 4);
 }
 
+// start() against PathRandom and the camera, one path at a time, behind some live lanes: every
+// copy, with the lens (rtiow-final's defocus blur) and without it.
+void expect_starts_agree(const Scene& scene, StartFunction start) {
+  const Camera camera(scene.camera, 160, 90);
+  const std::uint64_t seed = 11;
+  auto w = std::make_unique<Wavefront>();
+  const std::size_t begin = 37;
+  w->live = kWavefront;
+  for (std::size_t k = begin; k < kWavefront; ++k) {
+    w->key[k] = 1000 + 7 * k;
+    w->sample[k] = static_cast<std::uint32_t>(k % 5);
+    w->px[k] = static_cast<float>(k % 160), w->py[k] = static_cast<float>(k / 160 + 3);
+  }
+  start(*w, begin, camera, PathRandom::seed_hash(seed));
+  for (std::size_t k = begin; k < kWavefront; ++k) {
+    PathRandom random(seed, 1000 + 7 * k, static_cast<std::uint32_t>(k % 5));
+    const float px = static_cast<float>(k % 160) + random.uniform();
+    const float py = static_cast<float>(k / 160 + 3) + random.uniform();
+    Ray expected = camera.ray(px, py);
+    if (camera.has_defocus()) {
+      const Vec3 lens = random.in_unit_disk();
+      expected = camera.ray(px, py, lens.x, lens.y);
+    }
+    expect_same(expected.origin, w->rays[k].origin, "camera origin", k);
+    expect_same(expected.dir, w->rays[k].dir, "camera direction", k);
+    EXPECT_EQ(random.counter(), w->counter[k]) << "lane " << k;
+  }
+}
+
+TEST(Wavefront, StartsPathsAsPathRandomAndTheCamera) {
+  const auto runs = supported_isas();
+  for (const ShadeClone& clone : shade_clones()) {
+    if (clone.isa != Isa::scalar && std::find(runs.begin(), runs.end(), clone.isa) == runs.end())
+      continue;
+    SCOPED_TRACE("passes for " + std::string(isa_name(clone.isa)));
+    const Scene cover = make_preset("rtiow-final");
+    ASSERT_TRUE(Camera(cover.camera, 160, 90).has_defocus());
+    expect_starts_agree(cover, clone.start);
+    Scene pinhole = cover;
+    pinhole.camera.defocus_angle = 0.0f;
+    ASSERT_FALSE(Camera(pinhole.camera, 160, 90).has_defocus());
+    expect_starts_agree(pinhole, clone.start);
+  }
+}
+
 }  // namespace
 }  // namespace sphray::render

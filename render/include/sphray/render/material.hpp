@@ -44,8 +44,9 @@ class PathRandom {
  public:
   PathRandom() = default;
   PathRandom(std::uint64_t seed, std::uint64_t pixel, std::uint32_t sample)
-      : state_(
-            mix(mix(mix(seed + 0x632be59bd9b4e019ull) ^ pixel) ^ (std::uint64_t{sample} << 32))) {}
+      : state_(mix(mix(seed_hash(seed) ^ pixel) ^ (std::uint64_t{sample} << 32))) {}
+  /// The part of the key's hash that depends on the seed alone.
+  static std::uint64_t seed_hash(std::uint64_t seed) { return mix(seed + 0x632be59bd9b4e019ull); }
   /// Uniform in [0, 1), 24 bits, exact in float.
   float uniform() {
     state_ += kStep;
