@@ -13,6 +13,9 @@ constexpr float kGamma16 = 16.0f * 0x1p-24f / (1.0f - 16.0f * 0x1p-24f);
 
 // The copies of the passes this build has, best first (render/CMakeLists.txt).
 constexpr ShadeClone kClones[] = {
+#if SPHRAY_SHADE_HAS_AVX512
+    {Isa::avx512, &avx512::shade, &avx512::start},
+#endif
 #if SPHRAY_SHADE_HAS_AVX2
     {Isa::avx2, &avx2::shade, &avx2::start},
 #endif
@@ -22,9 +25,22 @@ constexpr ShadeClone kClones[] = {
     {Isa::scalar, &baseline::shade, &baseline::start},
 };
 
+// The parts of AVX-512 the avx512 copy is compiled for, beyond the foundation the kernel's
+// avx512 needs (every AVX-512 CPU but the Xeon Phi has them).
+bool has_avx512_parts() {
+#if SPHRAY_SHADE_HAS_AVX512
+  return __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
+         __builtin_cpu_supports("avx512bw");
+#else
+  return false;
+#endif
+}
+
 // Whether a copy built for `clone` runs where the kernel runs `active`: x86's sets nest.
 bool runs_on(Isa clone, Isa active) {
   switch (clone) {
+    case Isa::avx512:
+      return active == Isa::avx512 && has_avx512_parts();
     case Isa::avx2:
       return active == Isa::avx2 || active == Isa::avx512;
     case Isa::sse4_2:

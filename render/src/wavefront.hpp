@@ -124,6 +124,10 @@ namespace avx2 {
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance);
 void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t seed_hash);
 }  // namespace avx2
+namespace avx512 {
+void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance);
+void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t seed_hash);
+}  // namespace avx512
 
 /// One copy of shade() and the instruction set it was compiled for (Isa::scalar: the baseline).
 struct ShadeClone {
