@@ -36,9 +36,11 @@ struct SphereShading {
 class ShadingTable {
  public:
   explicit ShadingTable(const Scene& scene);
-  const SphereShading& row(std::uint32_t id) const {
-    return rows_[id < rows_.size() - 1 ? id : rows_.size() - 1];
+  /// The row of sphere id: the placeholder for a miss.
+  std::size_t index(std::uint32_t id) const {
+    return id < rows_.size() - 1 ? id : rows_.size() - 1;
   }
+  const SphereShading* rows() const { return rows_.data(); }
 
  private:
   std::vector<SphereShading> rows_;
@@ -64,7 +66,7 @@ struct Wavefront {
   // One bounce's scratch, written and read by shade().
   alignas(64) Lanes<float> ox, oy, oz, dx, dy, dz, t;  // the ray, then the next one
   alignas(64) Lanes<float> cx, cy, cz, radius, ex, ey, ez, ar, ag, ab, fuzz, ior;
-  alignas(64) Lanes<std::int32_t> kind, found, alive;
+  alignas(64) Lanes<std::int32_t> kind, found, alive, row;
   alignas(64) Lanes<float> px, py, pz, nx, ny, nz;  // surface point and outward normal
   alignas(64) Lanes<float> onx, ony, onz;           // the normal against the incoming ray
   alignas(64) Lanes<float> ux, uy, uz;              // the unit incoming direction

@@ -40,20 +40,31 @@ float away(float x, float sign) {
   return sign == 0.0f || x != x ? x : moved;
 }
 
-// Each live path's ray, hit and sphere, one array per quantity.
-void gather(Wavefront& w, const ShadingTable& table) {
-  for (std::size_t k = 0; k < w.live; ++k) {
-    const Ray& ray = w.rays[k];
-    w.ox[k] = ray.origin.x, w.oy[k] = ray.origin.y, w.oz[k] = ray.origin.z;
-    w.dx[k] = ray.dir.x, w.dy[k] = ray.dir.y, w.dz[k] = ray.dir.z;
-    w.t[k] = w.hits[k].t;
-    w.found[k] = w.hits[k].found();
-    const SphereShading& s = table.row(w.hits[k].id);
+// Each live path's sphere: its row's fields, one array per quantity. A loop that vectorises
+// with gathers where the instruction set has them (AVX2 on).
+void gather_rows(Wavefront& w, const SphereShading* __restrict rows) {
+  const std::size_t live = w.live;
+  for (std::size_t k = 0; k < live; ++k) {
+    const SphereShading& s = rows[w.row[k]];
     w.cx[k] = s.cx, w.cy[k] = s.cy, w.cz[k] = s.cz, w.radius[k] = s.radius;
     w.ex[k] = s.ex, w.ey[k] = s.ey, w.ez[k] = s.ez;
     w.ar[k] = s.ar, w.ag[k] = s.ag, w.ab[k] = s.ab;
     w.fuzz[k] = s.fuzz, w.ior[k] = s.ior, w.kind[k] = s.kind;
   }
+}
+
+// Each live path's ray, hit and sphere, one array per quantity.
+void gather(Wavefront& w, const ShadingTable& table) {
+  const std::size_t live = w.live;
+  for (std::size_t k = 0; k < live; ++k) {
+    const Ray& ray = w.rays[k];
+    w.ox[k] = ray.origin.x, w.oy[k] = ray.origin.y, w.oz[k] = ray.origin.z;
+    w.dx[k] = ray.dir.x, w.dy[k] = ray.dir.y, w.dz[k] = ray.dir.z;
+    w.t[k] = w.hits[k].t;
+    w.found[k] = w.hits[k].found();
+    w.row[k] = static_cast<std::int32_t>(table.index(w.hits[k].id));
+  }
+  gather_rows(w, table.rows());
 }
 
 // sphray::surface() for every lane, the unit incoming direction, the normal against it, and the
