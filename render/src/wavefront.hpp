@@ -2,10 +2,11 @@
 // (sphray::surface, scatter and sphray::spawn of material.hpp and sphray/query.hpp, for a whole
 // wavefront) in passes over those arrays. The float passes are plain loops without calls or
 // branches, which GCC vectorises; the build compiles them once per instruction set and the
-// tracer runs the widest copy (shade_for). The random draws stay one path at a time, from each
-// path's counter. Every path gets the same float operations and the same draws
-// in the same order as the one-path functions, so the images are the same bit for bit
-// (tests/render/wavefront_test.cpp compares them lane by lane).
+// tracer runs the widest copy (clone_for). The random draws come from each path's counter: the
+// camera's and each bounce's first ones for all lanes in a loop, the rest (after a rejected
+// point of the disk, a dielectric's) one lane at a time. Every path gets the same float
+// operations and the same draws in the same order as the one-path functions, so the images are
+// the same bit for bit (tests/render/wavefront_test.cpp compares them lane by lane).
 #pragma once
 
 #include <array>
@@ -53,7 +54,7 @@ using Lanes = std::array<T, kWavefront + 64 / sizeof(T)>;
 
 /// A tile's paths: rays and hits for the kernel's stream call, the rest one array per quantity.
 /// The live paths are packed at the front; the tracer fills the lanes behind them with new paths.
-/// 63 KiB: the tracer keeps one on its thread's stack per tile and sample.
+/// 69 KiB: the tracer keeps one on its thread's stack per tile and pass.
 struct Wavefront {
   std::array<Ray, kWavefront> rays;
   std::array<Hit, kWavefront> hits;
