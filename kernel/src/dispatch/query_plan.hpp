@@ -11,6 +11,8 @@
 //   sphray::occluded(tree, rays, ..)  6. coherent groups of rays as packets (both streams)
 //                                     7. parallel rays from scattered origins sorted by their
 //                                        lines into packets (both streams)
+//                                     8. at a packet's leaf, rays one at a time or in lanes
+//                                        (occlusion)
 //
 // Measured in docs/performance.md and docs/bvh.md; docs/architecture.md follows a ray through.
 #pragma once
@@ -161,6 +163,23 @@ struct QueryPlan {
     }
     return true;
   }
+
+  // 7 (cont.). The occlusion stream sorts lines over windows of kLineWindow rays (four of the
+  // stream's chunks), not one chunk: the denser a window's lines, the tighter its packets and
+  // the fewer rays left alone (on random:4096's sun shadow rays the rays alone took 15% of the
+  // time with 1024, 4% with 4096; 8192 and 16384 measured no faster than 4096). The sort keeps
+  // 8 bytes a ray on the stack (bvh/line_packet.hpp).
+  static constexpr std::size_t kLineWindow = 4096;
+
+  // 8. At a leaf, an occlusion packet's rays that enter the leaf's box take the leaf test either
+  // one ray at a time (a batch of the leaf's spheres per ray: LeafTest::any_hit) or with the
+  // rays in the lanes and one sphere at a time (LeafTest::any_hit_across: a batch of rays per
+  // sphere), the same answer either way. The first costs a step per ray, the second a step per
+  // sphere for up to a batch of rays at once, with fewer branches; measured on the sun's shadow
+  // rays (docs/performance.md, "Shadow rays: packet leaves"), rays in lanes as soon as the rays
+  // are at least half as many as the spheres ran best: never, 0.6x the rays, or always were
+  // 3-25% slower on one scene or another.
+  static bool leaf_across(std::size_t rays, std::size_t spheres) { return 2 * rays >= spheres; }
 };
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE
