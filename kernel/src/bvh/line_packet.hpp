@@ -45,6 +45,7 @@ struct LinePacket {
   using Batch = typename Packet::Batch;
   using Floats = typename Packet::Floats;
   using Interval = typename Packet::Interval;
+  using Mask = typename Packet::Mask;
   using Plan = QueryPlan;
   static constexpr std::size_t kRays = Packet::kRays;
   static constexpr std::size_t kWidth = Packet::kWidth;
@@ -108,16 +109,22 @@ struct LinePacket {
       qb = p[static_cast<int>(b)] + s * d[static_cast<int>(b)];
     }
 
-    // The Morton key of the cell of the line through o. Lines that miss the grid (and so the
-    // tree) all take the last key: sorted after the others, they do not widen their packets.
-    std::uint16_t key(const Vec3& o) const {
-      constexpr float kLast = static_cast<float>((1u << kKeyBits) - 1u);
-      float qa, qb;
-      cross(o, qa, qb);
-      const float ca = (qa - lo_a) * scale_a, cb = (qb - lo_b) * scale_b;
-      if (!(ca >= 0.0f && ca <= kLast && cb >= 0.0f && cb <= kLast)) return 0xffffu;  // or NaN
-      return static_cast<std::uint16_t>(spread(static_cast<std::uint32_t>(ca)) |
-                                        spread(static_cast<std::uint32_t>(cb)) << 1);
+    // The Morton keys of the cells of the rows' lines through their origins, into keys; the
+    // lanes whose lines cross the grid (NaN does not) as bits.
+    template <class R>
+    unsigned keys(const R& rows, std::int32_t* keys) const {
+      using Ints = xsimd::batch<std::int32_t, A>;
+      const Floats dk(d[static_cast<int>(k)]), da(d[static_cast<int>(a)]),
+          db(d[static_cast<int>(b)]);
+      const Floats s = (Floats(plane) - Floats::load_aligned(rows.o[k])) / dk;
+      const Floats ca = (Floats::load_aligned(rows.o[a]) + s * da - Floats(lo_a)) * Floats(scale_a);
+      const Floats cb = (Floats::load_aligned(rows.o[b]) + s * db - Floats(lo_b)) * Floats(scale_b);
+      const Floats zero(0.0f), last(static_cast<float>((1u << kKeyBits) - 1u));
+      const Mask inside = (ca >= zero) & (ca <= last) & (cb >= zero) & (cb <= last);
+      const Ints ia = xsimd::batch_cast<std::int32_t>(xsimd::select(inside, ca, zero));
+      const Ints ib = xsimd::batch_cast<std::int32_t>(xsimd::select(inside, cb, zero));
+      (spread(ia) | (spread(ib) << 1)).store_aligned(keys);
+      return LaneReduce<A>::bits(inside);
     }
   };
 
@@ -146,21 +153,22 @@ struct LinePacket {
            (__builtin_signbit(d.z) ? 4u : 0u);
   }
 
-  // Spreads the low 8 bits of v to every other bit.
-  static std::uint32_t spread(std::uint32_t v) {
-    v = (v | (v << 4)) & 0x0f0f0f0fu;
-    v = (v | (v << 2)) & 0x33333333u;
-    v = (v | (v << 1)) & 0x55555555u;
+  // Spreads the low 8 bits of each lane of v (at most 255) to every other bit.
+  static xsimd::batch<std::int32_t, A> spread(xsimd::batch<std::int32_t, A> v) {
+    using Ints = xsimd::batch<std::int32_t, A>;
+    v = (v | (v << 4)) & Ints(0x0f0f0f0f);
+    v = (v | (v << 2)) & Ints(0x33333333);
+    v = (v | (v << 1)) & Ints(0x55555555);
     return v;
   }
 
   // Sorts the rays at positions index[0, n) of rays (n <= kWindow) by their lines, into l, in
-  // one pass over them: the key of each is its cell on a grid over the tree's box [lo, hi] seen
-  // along the first ray's direction, on the plane through that ray's origin (the sort needs
-  // no particular plane; the packets slide onto l.plane, behind every origin). single(i)
-  // answers the rays that may not join a packet: those with a non-finite origin or direction,
-  // those not ahead, those of another octant than the first ray that may (SphereLanes::setup's
-  // other checks come in fill()). Returns where the sorted order is (l.order[which]).
+  // one pass over them, a batch at a time: the key of each is its cell on a grid over the
+  // tree's box [lo, hi] seen along the first usable ray's direction, on the plane through
+  // that ray's origin (the sort needs no particular plane; the packets slide onto l.plane,
+  // behind every origin). single(i) answers the rays that may not join a packet: those not
+  // usable(), those of another octant than the first usable one (SphereLanes::setup's other
+  // checks come in fill()). Returns where the sorted order is (l.order[which]).
   template <class Single>
   static std::uint16_t* prepare(const Ray* rays, const std::uint16_t* index, std::size_t n,
                                 const float* lo, const float* hi, Lines& l, Single&& single) {
@@ -170,28 +178,79 @@ struct LinePacket {
       single(index[j++]);
     if (j == n) return l.order[0];
     const Ray& first = rays[index[j]];
-    const unsigned first_octant = octant(first.dir);
     l.axis = main_axis(first.dir);
     l.plane = first.origin[static_cast<int>(l.axis)];
     const Grid grid(l.axis, l.plane, first.dir, lo, hi);
-    const bool positive = (first_octant >> l.axis & 1u) == 0;
-    float plane = l.plane;
-    for (; j < n; ++j) {
-      const std::size_t i = index[j];
-      const Ray& ray = rays[i];
-      if (!usable(ray) || octant(ray.dir) != first_octant) {
-        single(i);
-        continue;
-      }
-      l.key[0][l.count] = grid.key(ray.origin);
-      l.order[0][l.count++] = static_cast<std::uint16_t>(i);
+    const bool positive = !__builtin_signbit(first.dir[static_cast<int>(l.axis)]);
+    Rows rows;
+    Floats plane(l.plane);
+    for (; j < n; j += kWidth) {
+      const std::size_t m = n - j < kWidth ? n - j : kWidth;
+      rows.load(rays, index + j, m);
+      const Mask take = rows.usable() & rows.in_octant(first.dir);
       // Behind every origin: the lowest for a positive direction, the highest for a negative.
-      const float c = ray.origin[static_cast<int>(l.axis)];
-      plane = positive ? (c < plane ? c : plane) : (c > plane ? c : plane);
+      const Floats c = Floats::load_aligned(rows.o[l.axis]);
+      plane = positive ? xsimd::min(xsimd::select(take, c, plane), plane)
+                       : xsimd::max(xsimd::select(take, c, plane), plane);
+      alignas(64) std::int32_t keys[kWidth];
+      const unsigned inside = grid.keys(rows, keys);
+      const unsigned taken = LaneReduce<A>::bits(take);
+      for (std::size_t r = 0; r < m; ++r) {
+        if ((taken >> r & 1u) == 0) {
+          single(index[j + r]);
+          continue;
+        }
+        // Lines that miss the grid (and so the tree) all take the last key: sorted after the
+        // others, they do not widen their packets.
+        l.key[0][l.count] =
+            (inside >> r & 1u) != 0 ? static_cast<std::uint16_t>(keys[r]) : std::uint16_t{0xffff};
+        l.order[0][l.count++] = index[j + r];
+      }
     }
-    l.plane = plane;
+    const float behind = positive ? LaneReduce<A>::template all_min<float>(plane).get(0)
+                                  : -LaneReduce<A>::template all_min<float>(-plane).get(0);
+    l.plane = behind;
     return sort(l);
   }
+
+  // A batch of rays as rows of their fields, one ray per lane.
+  struct Rows {
+    alignas(64) float o[3][kWidth];
+    alignas(64) float d[3][kWidth];
+    alignas(64) float tmin[kWidth];
+
+    // The rays at positions at[0, m) (m <= kWidth), then copies of the first.
+    void load(const Ray* rays, const std::uint16_t* at, std::size_t m) {
+      for (std::size_t r = 0; r < kWidth; ++r) {
+        const Ray& ray = rays[at[r < m ? r : 0]];
+        o[0][r] = ray.origin.x, o[1][r] = ray.origin.y, o[2][r] = ray.origin.z;
+        d[0][r] = ray.dir.x, d[1][r] = ray.dir.y, d[2][r] = ray.dir.z;
+        tmin[r] = ray.tmin;
+      }
+    }
+
+    // usable(ray) in each lane.
+    Mask usable() const {
+      const Floats zero(0.0f), normal(0x1p-126f);
+      Mask ok = Floats::load_aligned(tmin) >= zero;
+      for (unsigned axis = 0; axis < 3; ++axis) {
+        const Floats x = Floats::load_aligned(o[axis]), v = Floats::load_aligned(d[axis]);
+        ok = ok & (x - x == zero) & (v - v == zero) & (xsimd::abs(v) >= normal);
+      }
+      return ok;
+    }
+
+    // The lanes whose direction has the signs of dir's: for usable rays (no zero component),
+    // octant(d) == octant(dir).
+    Mask in_octant(const Vec3& dir) const {
+      Mask same(true);
+      for (unsigned axis = 0; axis < 3; ++axis) {
+        const Mask negative = Floats::load_aligned(d[axis]) < Floats(0.0f);
+        same = same & (__builtin_signbit(dir[static_cast<int>(axis)]) ? negative : !negative);
+      }
+      return same;
+    }
+  };
 
   // What the slide needs: a finite origin and direction, and a normal main component (ahead).
   static bool usable(const Ray& ray) {
