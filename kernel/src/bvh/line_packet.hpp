@@ -76,8 +76,8 @@ struct LinePacket {
   };
 
   // The grid of the sort's keys: where the lines of direction d cross the plane across axis k
-  // at plane, the corners of the tree's box [lo, hi] bound those that meet the tree (the
-  // others' cells are clamped to the grid's edge: they meet nothing).
+  // at plane, 256 x 256 cells over the bounds of the tree's box [lo, hi] seen along d, which
+  // hold every line that meets the tree (prepare() gives the others the last key).
   struct Grid {
     unsigned k, a, b;
     float plane, lo_a, lo_b, scale_a, scale_b;
