@@ -239,6 +239,7 @@ struct PacketWalk {
                                            Leaf&& leaf) {
     Entry stack[kStackSize];
     std::size_t top = 0;
+    const bool beyond_caches = QueryPlan::beyond_caches(bvh);
     ChildRef ref = ChildRef::node(0);
     std::uint32_t box = 0;
     for (;;) {
@@ -250,6 +251,7 @@ struct PacketWalk {
         Floats tnear;
         const unsigned bits = Reduce::bits(enter_children(iv, node, best, tnear));
         push_sorted(node, ref.node_index(), bits, tnear, stack, top);
+        if (beyond_caches) prefetch(bvh, node, bits);
       }
       // Entries beyond every ray's best hit so far can only hold farther spheres.
       do {
@@ -258,6 +260,26 @@ struct PacketWalk {
       } while (stack[top].tnear > best);
       ref = stack[top].ref;
       box = stack[top].box;
+    }
+  }
+
+  // Asks the memory for what the entered children will read: a node's rows, a leaf's
+  // spheres; the packet visits them in turn, and on a tree larger than the caches it would
+  // otherwise wait on each.
+  SPHRAY_FORCE_INLINE static void prefetch(const BvhData& bvh, const Node& node, unsigned bits) {
+    for (unsigned left = bits; left != 0; left &= left - 1) {
+      const ChildRef child = node.ref(static_cast<unsigned>(__builtin_ctz(left)));
+      if (child.is_leaf()) {
+        const std::size_t first = child.first(kWidth);
+        __builtin_prefetch(bvh.spheres.cx + first);
+        __builtin_prefetch(bvh.spheres.cy + first);
+        __builtin_prefetch(bvh.spheres.cz + first);
+        __builtin_prefetch(bvh.spheres.radius + first);
+      } else {
+        const float* rows = bvh.nodes + child.node_index() * kBvhNodeRows * kWidth;
+        for (std::size_t row = 0; row < kBvhNodeRows; ++row)
+          __builtin_prefetch(rows + row * kWidth);
+      }
     }
   }
 
