@@ -234,6 +234,38 @@ TEST(Packets, SunShadowRaysFromScatteredOriginsGiveTheSingleRayAnswer) {
   }
 }
 
+// The packets' leaf test with the rays in the lanes (LeafTest::any_hit_across, where
+// QueryPlan::leaf_across sends a leaf's rays) on every instruction set: the sun's shadow rays
+// with masks that hide a sphere from some rays of a packet and not from others, ends (tmax)
+// that stop some rays short of, inside or just past a sphere, and starts (tmin) that skip
+// some, in scenes whose full leaves the packets reach with many rays at once.
+TEST(Packets, SunShadowRaysWithMasksAndEndsGiveTheSingleRayAnswer) {
+  std::mt19937 rng(24);
+  const Vec3 sun = normalize(Vec3{0.6f, 1.0f, 0.45f});
+  for (const EntryTable* k : test::runnable_kernels()) {
+    for (const Scene kind : {Scene::random, Scene::clustered, Scene::ground}) {
+      const SphereSoA scene = make_scene(kind, 3000, rng, true);
+      const SphereBVH bvh(scene.view(), k->isa);
+      const std::string what = label(k, kind, 3000, true) + " sun, masks and ends";
+      std::vector<Ray> shadows =
+          sun_rays(bvh, camera_rays({1.0f, 4.0f, -40.0f}, {0, 0, 0}, 97, 71, 0.0f), sun);
+      ASSERT_GT(shadows.size(), 300u) << what;
+      for (std::size_t i = 0; i < shadows.size(); ++i) {
+        shadows[i].mask = i % 4 == 3 ? 0xffffffffu : 1u << (i % 3);
+        if (i % 5 == 1) shadows[i].tmax = test::uniform(rng, 0.2f, 4.0f);
+        if (i % 5 == 2) shadows[i].tmin = test::uniform(rng, 0.01f, 2.0f);
+      }
+      expect_stream_is_single(bvh, shadows, what);
+      std::size_t blocked = 0;
+      for (const Ray& ray : shadows)
+        blocked += occluded(bvh, ray);
+      // Both answers must be common for the comparison to say anything.
+      EXPECT_GT(blocked, shadows.size() / 10) << what;
+      EXPECT_LT(blocked, shadows.size() * 9 / 10) << what;
+    }
+  }
+}
+
 // The sun's shadow rays above are what the plan sends to line packets; camera rays (which
 // consecutive packets take) and scattered rays are not.
 TEST(Packets, SunShadowRaysAreLinesForThePlan) {

@@ -8,7 +8,9 @@
 // bounds), tested against the node's kWidth children in one batch, as one ray's box test: one
 // node fetch and one test for up to kRays rays. Leaves: the leaf's box against the rays a batch
 // at a time (one ray per lane), then the single-ray leaf test (bvh/leaf_test.hpp) for each ray
-// that enters it, with that ray's own setup and best hit.
+// that enters it, with that ray's own setup and best hit; for occlusion, where the plan says
+// (QueryPlan::leaf_across), the same test transposed: the rays that enter in the lanes, the
+// leaf's spheres one at a time.
 //
 // The result is each ray's intersect(bvh, ray), bit for bit: the leaf test is the single ray's,
 // and every box test here is conservative (it rejects a box only when every ray's own test
@@ -60,8 +62,8 @@ struct PacketWalk {
     // free, -inf once it is blocked): a box entered beyond it is skipped.
     alignas(64) float best[kRays];
     std::uint32_t best_id[kRays];
-    float dx[kRays], dy[kRays], dz[kRays], a[kRays], inv_a[kRays], tmax[kRays];
-    std::uint32_t mask[kRays];
+    alignas(64) float dx[kRays], dy[kRays], dz[kRays], a[kRays], inv_a[kRays], tmax[kRays];
+    alignas(64) std::uint32_t mask[kRays];
     std::size_t count;
 
     // The ray's SphereLanes::setup, rebuilt from what setup computed (same bits); ux, uy, uz
@@ -70,6 +72,26 @@ struct PacketWalk {
       return {Floats(ox[r]),    Floats(oy[r]),   Floats(oz[r]), Floats(dx[r]), Floats(dy[r]),
               Floats(dz[r]),    Floats(0.0f),    Floats(0.0f),  Floats(0.0f),  Floats(a[r]),
               Floats(inv_a[r]), Floats(tmin[r]), tmax[r],       mask[r]};
+    }
+
+    // The setups of the rays of batch g (rays g * kWidth on), one per lane, for the leaf test
+    // across rays (LeafTest::any_hit_across); tmax and mask are read as batches apart.
+    SPHRAY_FORCE_INLINE typename Batch::RaySetup lanes(std::size_t g) const {
+      const std::size_t r = g * kWidth;
+      return {Floats::load_aligned(ox + r),
+              Floats::load_aligned(oy + r),
+              Floats::load_aligned(oz + r),
+              Floats::load_aligned(dx + r),
+              Floats::load_aligned(dy + r),
+              Floats::load_aligned(dz + r),
+              Floats(0.0f),
+              Floats(0.0f),
+              Floats(0.0f),
+              Floats::load_aligned(a + r),
+              Floats::load_aligned(inv_a + r),
+              Floats::load_aligned(tmin + r),
+              0.0f,
+              0u};
     }
   };
 
@@ -103,6 +125,12 @@ struct PacketWalk {
       p.inv_dx[r] = p.inv_dy[r] = p.inv_dz[r] = 1.0f;
       p.tmin[r] = 0.0f;
       p.best[r] = -__builtin_inff();
+      // What the leaf test across rays computes in these lanes, and then ignores.
+      p.dx[r] = p.dy[r] = p.dz[r] = 1.0f;
+      p.a[r] = 3.0f;
+      p.inv_a[r] = 1.0f / 3.0f;
+      p.tmax[r] = 0.0f;
+      p.mask[r] = 0u;
     }
   }
 
@@ -163,6 +191,11 @@ struct PacketWalk {
   // their own best: BoxTest::enter_children's ahead form with rays in the lanes, as bits.
   SPHRAY_FORCE_INLINE static unsigned enter_box(const Rays& p, const Interval& iv, const Node& node,
                                                 std::size_t lane, std::size_t g) {
+    return Reduce::bits(enter_box_lanes(p, iv, node, lane, g));
+  }
+  SPHRAY_FORCE_INLINE static Mask enter_box_lanes(const Rays& p, const Interval& iv,
+                                                  const Node& node, std::size_t lane,
+                                                  std::size_t g) {
     const std::size_t r = g * kWidth;
     const Floats ox = Floats::load_aligned(p.ox + r), oy = Floats::load_aligned(p.oy + r),
                  oz = Floats::load_aligned(p.oz + r);
@@ -179,7 +212,7 @@ struct PacketWalk {
                                     xsimd::max(near_z, Floats::load_aligned(p.tmin + r))) *
                          Floats(kEntryScale);
     const Floats tfar = xsimd::min(xsimd::min(far_x, far_y), far_z) * Floats(kExitScale);
-    return Reduce::bits((tnear <= tfar) & (tnear <= Floats::load_aligned(p.best + r)));
+    return (tnear <= tfar) & (tnear <= Floats::load_aligned(p.best + r));
   }
 
   static float max_best(const Rays& p) {
@@ -206,6 +239,7 @@ struct PacketWalk {
                                            Leaf&& leaf) {
     Entry stack[kStackSize];
     std::size_t top = 0;
+    const bool beyond_caches = QueryPlan::beyond_caches(bvh);
     ChildRef ref = ChildRef::node(0);
     std::uint32_t box = 0;
     for (;;) {
@@ -217,6 +251,7 @@ struct PacketWalk {
         Floats tnear;
         const unsigned bits = Reduce::bits(enter_children(iv, node, best, tnear));
         push_sorted(node, ref.node_index(), bits, tnear, stack, top);
+        if (beyond_caches) prefetch(bvh, node, bits);
       }
       // Entries beyond every ray's best hit so far can only hold farther spheres.
       do {
@@ -225,6 +260,26 @@ struct PacketWalk {
       } while (stack[top].tnear > best);
       ref = stack[top].ref;
       box = stack[top].box;
+    }
+  }
+
+  // Asks the memory for what the entered children will read: a node's rows, a leaf's
+  // spheres; the packet visits them in turn, and on a tree larger than the caches it would
+  // otherwise wait on each.
+  SPHRAY_FORCE_INLINE static void prefetch(const BvhData& bvh, const Node& node, unsigned bits) {
+    for (unsigned left = bits; left != 0; left &= left - 1) {
+      const ChildRef child = node.ref(static_cast<unsigned>(__builtin_ctz(left)));
+      if (child.is_leaf()) {
+        const std::size_t first = child.first(kWidth);
+        __builtin_prefetch(bvh.spheres.cx + first);
+        __builtin_prefetch(bvh.spheres.cy + first);
+        __builtin_prefetch(bvh.spheres.cz + first);
+        __builtin_prefetch(bvh.spheres.radius + first);
+      } else {
+        const float* rows = bvh.nodes + child.node_index() * kBvhNodeRows * kWidth;
+        for (std::size_t row = 0; row < kBvhNodeRows; ++row)
+          __builtin_prefetch(rows + row * kWidth);
+      }
     }
   }
 
@@ -283,12 +338,34 @@ struct PacketWalk {
     occluded<kMasked>(bvh, p, interval(p), OwnFrame{});
   }
 
+  // The rays of batch g in enter against the leaf of count spheres at slot first, rays in the
+  // lanes (LeafTest::any_hit_across): each blocked ray's best becomes -inf.
+  template <bool kMasked>
+  SPHRAY_FORCE_INLINE static void block_across(const BvhData& bvh, Rays& p, std::size_t g,
+                                               std::size_t first, std::size_t count,
+                                               const Mask& enter) {
+    const std::size_t r = g * kWidth;
+    const Mask blocked = Leaves::template any_hit_across<kMasked>(
+        bvh, p.lanes(g), Floats::load_aligned(p.tmax + r), Batch::Uints::load_aligned(p.mask + r),
+        first, count, enter);
+    const Floats best = Floats::load_aligned(p.best + r);
+    xsimd::select(blocked, Floats(-__builtin_inff()), best).store_aligned(p.best + r);
+  }
+
   template <bool kMasked, class Frame>
   static void occluded(const BvhData& bvh, Rays& p, const Interval& iv, const Frame& frame) {
     traverse(
         bvh, iv, frame.max_best(p), [&](const Node& parent, std::size_t lane, std::size_t first) {
+          const std::size_t spheres = parent.ref(lane).count(kWidth);
           for (std::size_t g = 0; g < kRays / kWidth; ++g) {
-            for (unsigned bits = enter_box(p, iv, parent, lane, g); bits != 0; bits &= bits - 1) {
+            const Mask enter = enter_box_lanes(p, iv, parent, lane, g);
+            unsigned bits = Reduce::bits(enter);
+            if (bits == 0) continue;
+            if (QueryPlan::leaf_across(static_cast<unsigned>(__builtin_popcount(bits)), spheres)) {
+              block_across<kMasked>(bvh, p, g, first, spheres, enter);
+              continue;
+            }
+            for (; bits != 0; bits &= bits - 1) {
               const std::size_t r = g * kWidth + static_cast<unsigned>(__builtin_ctz(bits));
               if (Leaves::template any_hit<kMasked>(bvh, p.setup(r), first))
                 p.best[r] = -__builtin_inff();

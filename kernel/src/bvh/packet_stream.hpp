@@ -28,10 +28,12 @@ struct PacketStream {
   static constexpr std::size_t kRays = Packet::kRays;
   static constexpr std::size_t kWidth = Packet::kWidth;
 
-  // The tree's box (the union of the root's children), as the packets need it: its largest
-  // side (the plan's yardstick for a group's spread) and its largest coordinate magnitude (the
-  // rounding margin of bvh/line_packet.hpp). Empty lanes (lo = +inf, hi = -inf) drop out.
+  // The tree's box (the union of the root's children), as the packets need it: its bounds
+  // (the line packets' sort grid), its largest side (the plan's yardstick for a group's
+  // spread) and its largest coordinate magnitude (the rounding margin of bvh/line_packet.hpp).
+  // Empty lanes (lo = +inf, hi = -inf) drop out.
   struct TreeSize {
+    float lo[3] = {0.0f, 0.0f, 0.0f}, hi[3] = {0.0f, 0.0f, 0.0f};
     float extent = 0.0f, abs = 0.0f;
   };
   static TreeSize tree_size(const BvhData& bvh) {
@@ -44,6 +46,8 @@ struct PacketStream {
         hi = root.hi(axis, k) > hi ? root.hi(axis, k) : hi;
       }
       if (!(lo <= hi)) continue;
+      size.lo[axis] = lo;
+      size.hi[axis] = hi;
       size.extent = hi - lo > size.extent ? hi - lo : size.extent;
       const float m =
           __builtin_fabsf(lo) > __builtin_fabsf(hi) ? __builtin_fabsf(lo) : __builtin_fabsf(hi);
@@ -60,41 +64,29 @@ struct PacketStream {
                     const TreeSize& tree, Trace&& trace, Single&& single, Store&& store) {
     using Line = LinePacket<A>;
     typename Line::Lines l;
-    const std::uint16_t* order = Line::prepare(rays, index, n, tree.abs, l, single);
+    const std::uint16_t* order = Line::prepare(rays, index, n, tree.lo, tree.hi, l, single);
     const float limit = Plan::kLineSpan * tree.extent;
     typename Packet::Rays p;
+    typename Line::Slid g;
     typename Line::ShiftedFrame frame;
+    std::uint16_t members[kRays];
     for (std::size_t begin = 0; begin < l.count; begin += kRays) {
-      const std::size_t count = l.count - begin > kRays ? kRays : l.count - begin;
+      std::size_t count = l.count - begin > kRays ? kRays : l.count - begin;
       const std::uint16_t* group = order + begin;
-      if (count < Plan::kPacketMinRays || !Line::tight(l, group, count, limit)) {
-        for (std::size_t r = 0; r < count; ++r)
-          single(group[r]);
-        continue;
-      }
-      // The rays the contract says miss (prepare checked only what the slide needs) go alone.
-      std::uint16_t members[kRays];
-      p.count = 0;
-      for (std::size_t r = 0; r < count; ++r) {
-        const Ray& ray = rays[group[r]];
-        typename Batch::RaySetup s;
-        if (!Batch::setup(ray, s)) {
-          single(group[r]);
+      if (count >= Plan::kPacketMinRays) {
+        Line::fill(rays, l, group, count, tree.abs, p, g, members, single);
+        if (p.count >= Plan::kPacketMinRays && Line::tight(l, g, p.count, limit)) {
+          const typename Packet::Interval iv = Line::interval(l, g, p, frame);
+          trace(p, iv, frame);
+          for (std::size_t r = 0; r < p.count; ++r)
+            store(p, r, members[r]);
           continue;
         }
-        members[p.count] = group[r];
-        Packet::add(p, ray, s, ray.tmax);
+        group = members;  // the rays fill() did not answer
+        count = p.count;
       }
-      if (p.count < Plan::kPacketMinRays) {
-        for (std::size_t r = 0; r < p.count; ++r)
-          single(members[r]);
-        continue;
-      }
-      Packet::pad(p);
-      const typename Packet::Interval iv = Line::interval(l, members, p, frame);
-      trace(p, iv, frame);
-      for (std::size_t r = 0; r < p.count; ++r)
-        store(p, r, members[r]);
+      for (std::size_t r = 0; r < count; ++r)
+        single(group[r]);
     }
   }
 
@@ -132,18 +124,18 @@ struct PacketStream {
     return false;
   }
 
-  // One chunk, rays[0, n) with n <= kChunk: groups of kRays consecutive rays that the plan
+  // One window, rays[0, n) with n <= kWindow: groups of kRays consecutive rays that the plan
   // finds coherent go as packets (Packet::interval over their own origins); the rays of the
-  // other groups, if the plan finds them parallel, as line packets, else one at a time.
-  // trace(p, iv, frame), single(i) and store(p, r, i) as for lines.
-  static constexpr std::size_t kChunk = Plan::kStreamChunk;
+  // other groups, if the plan finds them parallel, as line packets sorted over the window,
+  // else one at a time. trace(p, iv, frame), single(i) and store(p, r, i) as for lines.
+  static constexpr std::size_t kWindow = Plan::kLineWindow;
   template <class Trace, class Single, class Store>
-  static void chunk(const BvhData& bvh, const Ray* rays, std::size_t n, Trace&& trace,
-                    Single&& single, Store&& store) {
+  static void window(const BvhData& bvh, const Ray* rays, std::size_t n, Trace&& trace,
+                     Single&& single, Store&& store) {
     const TreeSize tree = tree_size(bvh);
     typename Packet::Rays p;
     std::uint16_t index[kRays];
-    std::uint16_t rest[kChunk];
+    std::uint16_t rest[kWindow];
     std::size_t rest_count = 0;
     for (std::size_t begin = 0; begin < n; begin += kRays) {
       const std::size_t count = n - begin > kRays ? kRays : n - begin;
@@ -169,11 +161,11 @@ struct PacketStream {
   // hits[i] = intersect(bvh, rays[i]), packets where the plan takes them.
   template <bool kBranchFree, bool kMasked>
   static void intersect(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
-    for (std::size_t begin = 0; begin < n; begin += kChunk) {
+    for (std::size_t begin = 0; begin < n; begin += kWindow) {
       const Ray* r0 = rays + begin;
       Hit* h0 = hits + begin;
-      chunk(
-          bvh, r0, n - begin > kChunk ? kChunk : n - begin,
+      window(
+          bvh, r0, n - begin > kWindow ? kWindow : n - begin,
           [&](typename Packet::Rays& p, const typename Packet::Interval& iv, const auto& frame) {
             Packet::template intersect<kBranchFree, kMasked>(bvh, p, iv, frame);
           },
@@ -189,11 +181,11 @@ struct PacketStream {
   // blocked[i] = occluded(bvh, rays[i]), packets where the plan takes them.
   template <bool kMasked>
   static void occluded(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n) {
-    for (std::size_t begin = 0; begin < n; begin += kChunk) {
+    for (std::size_t begin = 0; begin < n; begin += kWindow) {
       const Ray* r0 = rays + begin;
       bool* b0 = blocked + begin;
-      chunk(
-          bvh, r0, n - begin > kChunk ? kChunk : n - begin,
+      window(
+          bvh, r0, n - begin > kWindow ? kWindow : n - begin,
           [&](typename Packet::Rays& p, const typename Packet::Interval& iv, const auto& frame) {
             Packet::template occluded<kMasked>(bvh, p, iv, frame);
           },

@@ -61,7 +61,8 @@ struct TreeStream {
   }
 
   // blocked[i] = occluded(bvh, rays[i]): coherent rays (shadow rays towards one light) in
-  // packets, the others one at a time.
+  // packets, the others one at a time. Decided per window of QueryPlan::kLineWindow rays, the
+  // line packets' sort window.
   static void occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n) {
     if (bvh.spheres.mask != nullptr)
       occluded_stream<true>(bvh, rays, blocked, n);
@@ -71,9 +72,9 @@ struct TreeStream {
 
   template <bool kMasked>
   static void occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n) {
-    constexpr std::size_t kChunk = Plan::kStreamChunk;
-    for (std::size_t begin = 0; begin < n; begin += kChunk) {
-      const std::size_t count = n - begin > kChunk ? kChunk : n - begin;
+    constexpr std::size_t kWindow = Plan::kLineWindow;
+    for (std::size_t begin = 0; begin < n; begin += kWindow) {
+      const std::size_t count = n - begin > kWindow ? kWindow : n - begin;
       if (Plan::packets(bvh) && !Plan::scattered(rays + begin, count)) {
         PacketStream<A>::template occluded<kMasked>(bvh, rays + begin, blocked + begin, count);
       } else {

@@ -11,6 +11,8 @@
 //   sphray::occluded(tree, rays, ..)  6. coherent groups of rays as packets (both streams)
 //                                     7. parallel rays from scattered origins sorted by their
 //                                        lines into packets (both streams)
+//                                     8. at a packet's leaf, rays one at a time or in lanes
+//                                        (occlusion)
 //
 // Measured in docs/performance.md and docs/bvh.md; docs/architecture.md follows a ray through.
 #pragma once
@@ -68,7 +70,13 @@ struct QueryPlan {
   static constexpr std::size_t kStreamChunk = 1024;
   static constexpr std::size_t kInTurnsAbove = std::size_t{4} << 20;
   static bool walks_in_turns(const BvhData& bvh, const Ray* rays, std::size_t n) {
-    return bvh.node_count != 0 && bvh.memory_bytes > kInTurnsAbove && scattered(rays, n);
+    return beyond_caches(bvh) && scattered(rays, n);
+  }
+  // On such a tree the packets (bvh/packet.hpp) prefetch the nodes and leaves they push:
+  // random:1048576's shadow rays ran 2-4% faster (two interleaved runs, medians of 9), camera
+  // rays the same; on smaller trees it measured 3-6% slower on rtiow-final's shadow rays.
+  static bool beyond_caches(const BvhData& bvh) {
+    return bvh.node_count != 0 && bvh.memory_bytes > kInTurnsAbove;
   }
 
   // Whether rays (a chunk of a stream) scatter: fewer than half of the neighbours' directions
@@ -137,7 +145,7 @@ struct QueryPlan {
 
   // 7. Rays that share a direction but start far apart (shadow rays towards one light from a
   // frame's hit points) fail coherent()'s origin test, yet what decides the boxes they meet is
-  // their lines. The rays of a chunk's groups that coherent() turned down, if all but one in 8
+  // their lines. The rays of a window's groups that coherent() turned down, if all but one in 8
   // at most point within kPacketCosine of the first one's, are sorted by where their lines
   // cross a plane across their main axis, and each kPacketRays of that order whose lines cross
   // it within kLineSpan of the tree's extent go as a packet (bvh/line_packet.hpp). Measured on
@@ -161,6 +169,24 @@ struct QueryPlan {
     }
     return true;
   }
+
+  // 7 (cont.). The occlusion stream sorts lines over windows of kLineWindow rays (four of the
+  // stream's chunks), not one chunk: the denser a window's lines, the tighter its packets and
+  // the fewer rays left alone (on random:4096's sun shadow rays the rays alone took 15% of the
+  // time with 1024, 4-7% with 4096; 8192 and 16384 measured no faster than 4096). The sort
+  // keeps 8 bytes a ray on the stack (bvh/line_packet.hpp).
+  static constexpr std::size_t kLineWindow = 4096;
+
+  // 8. At a leaf, an occlusion packet's rays that enter the leaf's box take the leaf test either
+  // one ray at a time (a batch of the leaf's spheres per ray: LeafTest::any_hit) or with the
+  // rays in the lanes and one sphere at a time (LeafTest::any_hit_across: a batch of rays per
+  // sphere), the same answer either way. The first costs a step per ray, the second a step per
+  // sphere for up to a batch of rays at once, with fewer branches. Measured on the sun's shadow
+  // rays (docs/performance.md, "Shadow rays: packet leaves"): one ray at a time everywhere was
+  // 2-48% slower than this rule, rays in lanes everywhere 16% slower on random:65536; rays in
+  // lanes from as many rays as spheres, or from a quarter as many, measured as this rule
+  // (from half as many) within the noise.
+  static bool leaf_across(std::size_t rays, std::size_t spheres) { return 2 * rays >= spheres; }
 };
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE
