@@ -1,7 +1,5 @@
 #include "sphray/render/path_tracer.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -14,6 +12,7 @@
 
 #include "scene_queries.hpp"
 #include "sphray/render/camera.hpp"
+#include "tile_tasks.hpp"
 #include "wavefront.hpp"
 
 namespace sphray::render {
@@ -262,10 +261,8 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RayQueries& queries,
     if (queries.collective()) {
       trace_tiles(first, count, 0, tiles);  // every process the same calls in the same order
     } else {
-      arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles, 1), [&](const auto& range) {
-          trace_tiles(first, count, range.begin(), range.end());
-        });
+      trace_tiles_in(arena, tiles, [&](std::size_t begin, std::size_t end) {
+        trace_tiles(first, count, begin, end);
       });
     }
     passes += static_cast<int>(count);

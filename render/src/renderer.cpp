@@ -1,7 +1,5 @@
 #include "sphray/render/renderer.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -16,6 +14,7 @@
 #include "scene_queries.hpp"
 #include "sphray/render/camera.hpp"
 #include "sphray/render/path_tracer.hpp"
+#include "tile_tasks.hpp"
 
 namespace sphray::render {
 namespace {
@@ -302,10 +301,7 @@ Image render(const Scene& scene, const RayQueries& queries, const RenderOptions&
     render_tiles(0, tiles);  // every process the same calls in the same order
   } else {
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles, 1),
-                        [&](const auto& range) { render_tiles(range.begin(), range.end()); });
-    });
+    trace_tiles_in(arena, tiles, render_tiles);
   }
   auto seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
