@@ -4,6 +4,7 @@
 // The oracle is the single-ray walk, itself checked against brute force (bvh_test.cpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -308,6 +309,112 @@ TEST(Packets, CameraRowsAreCoherentForThePlan) {
   }
   EXPECT_GT(coherent, groups / 2) << coherent << " of " << groups;
   EXPECT_EQ(scattered_coherent, 0u);
+}
+
+// rays as arrays per quantity (RayArrays), and the arrays they point into.
+struct RayColumnsOf {
+  std::vector<float> ox, oy, oz, dx, dy, dz, tmin, tmax;
+  std::vector<std::uint32_t> mask;
+  RayArrays arrays;
+
+  // with_bounds false: tmin, tmax and mask left null, for rays that have Ray's defaults.
+  RayColumnsOf(const std::vector<Ray>& rays, bool with_bounds) {
+    for (const Ray& r : rays) {
+      ox.push_back(r.origin.x), oy.push_back(r.origin.y), oz.push_back(r.origin.z);
+      dx.push_back(r.dir.x), dy.push_back(r.dir.y), dz.push_back(r.dir.z);
+      tmin.push_back(r.tmin), tmax.push_back(r.tmax), mask.push_back(r.mask);
+    }
+    arrays = {ox.data(),
+              oy.data(),
+              oz.data(),
+              dx.data(),
+              dy.data(),
+              dz.data(),
+              with_bounds ? tmin.data() : nullptr,
+              with_bounds ? tmax.data() : nullptr,
+              with_bounds ? mask.data() : nullptr,
+              rays.size()};
+  }
+};
+
+// hits as arrays must hold, bit for bit, the single-ray call's hit of each ray.
+void expect_hits(const std::vector<float>& t, const std::vector<std::uint32_t>& id,
+                 const std::vector<Hit>& expected, const std::string& what) {
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    ASSERT_EQ(id[i], expected[i].id) << what << " ray " << i;
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(t[i]), std::bit_cast<std::uint32_t>(expected[i].t))
+        << what << " ray " << i << ": " << t[i] << " vs " << expected[i].t;
+  }
+}
+
+// The stream calls that take rays and hits as arrays per quantity: for camera rays (packets),
+// the same with odd rays mixed in (each ray's own tmin, tmax and mask), scattered rays (alone),
+// a stream cut short of a packet, small trees (built flat) and brute force, on every
+// instruction set, each ray's hit is the single-ray call's, bit for bit.
+TEST(Packets, ArraysOfRaysGiveEachRayTheSingleRayAnswer) {
+  std::mt19937 rng(23);
+  for (const EntryTable* k : test::runnable_kernels()) {
+    for (const std::size_t n : {std::size_t{1}, std::size_t{40}, std::size_t{3000}}) {
+      for (const bool masked : {false, true}) {
+        const SphereSoA scene = make_scene(Scene::random, n, rng, masked);
+        const SphereBVH bvh(scene.view(), k->isa);
+        const std::string what = label(k, Scene::random, n, masked);
+        const std::vector<Ray> camera = camera_rays({1.0f, 4.0f, -40.0f}, {0, 0, 0}, 83, 61, 0.0f);
+        const std::vector<Ray> partial(camera.begin() + 2000, camera.begin() + 2101);
+        const struct {
+          const char* name;
+          std::vector<Ray> rays;
+          bool with_bounds;
+        } cases[] = {{"camera", camera, false},
+                     {"camera with bounds", camera, true},
+                     {"odd", with_odd_rays(camera), true},
+                     {"scattered", scattered_rays(2000, rng), false},
+                     {"partial", partial, false}};
+        std::size_t found = 0;
+        for (const auto& c : cases) {
+          const RayColumnsOf columns(c.rays, c.with_bounds);
+          std::vector<float> t(c.rays.size(), -1.0f);
+          std::vector<std::uint32_t> id(c.rays.size(), 7u);
+          const HitArrays hits{t.data(), id.data(), c.rays.size()};
+          std::vector<Hit> tree_single, brute_single;
+          for (const Ray& ray : c.rays) {
+            tree_single.push_back(intersect(bvh, ray));
+            brute_single.push_back(k->intersect(scene.view(), ray));
+            found += tree_single.back().found();
+          }
+          intersect(bvh, columns.arrays, hits);
+          expect_hits(t, id, tree_single, what + " tree " + c.name);
+          std::fill(t.begin(), t.end(), -1.0f);
+          k->intersect_arrays(scene.view(), columns.arrays, hits);
+          expect_hits(t, id, brute_single, what + " brute force " + c.name);
+        }
+        EXPECT_GT(found, 0u) << what;  // else the comparisons say little
+      }
+    }
+  }
+}
+
+TEST(Packets, ArraysOfRaysAreChecked) {
+  SphereSoA scene;
+  scene.add({0, 0, 5}, 1.0f);
+  const SphereBVH bvh(scene.view());
+  const RayColumnsOf columns({{{0, 0, 0}, {0, 0, 1}}, {{0, 0, 0}, {0, 1, 0}}}, false);
+  float t[2] = {0, 0};
+  std::uint32_t id[2] = {0, 0};
+  EXPECT_THROW(intersect(bvh, columns.arrays, HitArrays{t, id, 1}), std::length_error);
+  EXPECT_THROW(intersect(scene.view(), columns.arrays, HitArrays{t, id, 1}), std::length_error);
+  EXPECT_THROW(intersect(bvh, columns.arrays, HitArrays{t, nullptr, 2}), std::invalid_argument);
+  RayArrays no_dir = columns.arrays;
+  no_dir.dy = nullptr;
+  EXPECT_THROW(intersect(scene.view(), no_dir, HitArrays{t, id, 2}), std::invalid_argument);
+  // No rays: null arrays are fine, and nothing is written.
+  intersect(bvh, RayArrays{}, HitArrays{});
+  intersect(scene.view(), RayArrays{}, HitArrays{});
+  intersect(bvh, columns.arrays, HitArrays{t, id, 2});
+  EXPECT_EQ(id[0], 0u);
+  EXPECT_EQ(t[0], 4.0f);
+  EXPECT_EQ(id[1], kNoHit);
+  EXPECT_EQ(t[1], INFINITY);
 }
 
 TEST(Packets, OccludedStreamChecksItsSize) {

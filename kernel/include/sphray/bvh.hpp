@@ -23,6 +23,7 @@
 #include "sphray/api.h"
 #include "sphray/isa.hpp"
 #include "sphray/ray.hpp"
+#include "sphray/ray_arrays.hpp"
 #include "sphray/spheres.hpp"
 
 namespace sphray {
@@ -95,6 +96,11 @@ SPHRAY_API bool occluded(const SphereBVH& bvh, const Ray& ray);
 /// the tree in packets, the others one at a time; every hit is the single-ray call's. Throws
 /// std::length_error unless hits.size() == rays.size().
 SPHRAY_API void intersect(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> hits);
+
+/// The same stream with rays and hits as arrays per quantity (ray_arrays.hpp): the same path
+/// through the tree, packets included, and the same hits bit for bit; the checks of
+/// intersect(SphereView, const RayArrays&, const HitArrays&).
+SPHRAY_API void intersect(const SphereBVH& bvh, const RayArrays& rays, const HitArrays& hits);
 
 /// blocked[i] = occluded(bvh, rays[i]). Throws std::length_error unless
 /// blocked.size() == rays.size(). Coherent rays, such as shadow rays towards one light from

@@ -10,14 +10,15 @@
 //   overflows or underflows float), a NaN bound, or !(tmin < tmax) misses everything.
 // - A ray sees sphere i only if SphereView::mask[i] (every bit if the view has no masks) and
 //   ray.mask share a bit; a ray whose mask is 0 misses everything.
-// - Queries never allocate, lock, throw (but for the stream size check) or touch mutable
-//   global state: any number of threads may query the same spheres at once.
+// - Queries never allocate, lock, throw (but for the stream calls' argument checks) or touch
+//   mutable global state: any number of threads may query the same spheres at once.
 #pragma once
 
 #include <span>
 
 #include "sphray/api.h"
 #include "sphray/ray.hpp"
+#include "sphray/ray_arrays.hpp"
 #include "sphray/spheres.hpp"
 
 namespace sphray {
@@ -31,6 +32,12 @@ SPHRAY_API bool occluded(SphereView spheres, const Ray& ray);
 /// hits[i] = intersect(spheres, rays[i]). Throws std::length_error unless
 /// hits.size() == rays.size().
 SPHRAY_API void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hits);
+
+/// The same stream with rays and hits as arrays per quantity: hit i (hits.t[i], hits.id[i]) is
+/// intersect(spheres, rays.at(i)), bit for bit. Throws std::length_error unless
+/// hits.count == rays.count, std::invalid_argument if a ray's origin or direction array or a
+/// hit array is null while count > 0.
+SPHRAY_API void intersect(SphereView spheres, const RayArrays& rays, const HitArrays& hits);
 
 /// blocked[i] = occluded(spheres, rays[i]). Throws std::length_error unless
 /// blocked.size() == rays.size().

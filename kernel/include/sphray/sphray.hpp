@@ -7,6 +7,7 @@
 #include "sphray/point_queries.hpp"
 #include "sphray/query.hpp"
 #include "sphray/ray.hpp"
+#include "sphray/ray_arrays.hpp"
 #include "sphray/spheres.hpp"
 #include "sphray/vec3.hpp"
 #include "sphray/version.hpp"

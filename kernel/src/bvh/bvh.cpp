@@ -7,6 +7,7 @@
 #include "bvh/build.hpp"
 #include "bvh/bvh_data.hpp"
 #include "dispatch/entry_table.hpp"
+#include "storage/ray_columns.hpp"
 
 namespace sphray {
 
@@ -106,6 +107,12 @@ void intersect(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> h
     throw std::length_error("sphray::intersect: rays and hits differ in size");
   using A = detail::BvhAccess;
   A::entries(bvh).bvh_intersect_stream(A::data(bvh), rays.data(), hits.data(), rays.size());
+}
+
+void intersect(const SphereBVH& bvh, const RayArrays& rays, const HitArrays& hits) {
+  detail::check_arrays(rays, hits);
+  using A = detail::BvhAccess;
+  A::entries(bvh).bvh_intersect_arrays(A::data(bvh), rays, hits);
 }
 
 void occluded(const SphereBVH& bvh, std::span<const Ray> rays, std::span<bool> blocked) {

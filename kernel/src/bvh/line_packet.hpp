@@ -169,15 +169,15 @@ struct LinePacket {
   // behind every origin). single(i) answers the rays that may not join a packet: those not
   // usable(), those of another octant than the first usable one (SphereLanes::setup's other
   // checks come in fill()). Returns where the sorted order is (l.order[which]).
-  template <class Single>
-  static std::uint16_t* prepare(const Ray* rays, const std::uint16_t* index, std::size_t n,
+  template <class Rays, class Single>  // Rays: `const Ray*` or RayColumns, as in bvh/stream.hpp
+  static std::uint16_t* prepare(const Rays& rays, const std::uint16_t* index, std::size_t n,
                                 const float* lo, const float* hi, Lines& l, Single&& single) {
     l.count = 0;
     std::size_t j = 0;
     while (j < n && !usable(rays[index[j]]))
       single(index[j++]);
     if (j == n) return l.order[0];
-    const Ray& first = rays[index[j]];
+    const Ray first = rays[index[j]];
     l.axis = main_axis(first.dir);
     l.plane = first.origin[static_cast<int>(l.axis)];
     const Grid grid(l.axis, l.plane, first.dir, lo, hi);
@@ -220,9 +220,10 @@ struct LinePacket {
     alignas(64) float tmin[kWidth];
 
     // The rays at positions at[0, m) (m <= kWidth), then copies of the first.
-    void load(const Ray* rays, const std::uint16_t* at, std::size_t m) {
+    template <class Rays>
+    void load(const Rays& rays, const std::uint16_t* at, std::size_t m) {
       for (std::size_t r = 0; r < kWidth; ++r) {
-        const Ray& ray = rays[at[r < m ? r : 0]];
+        const auto& ray = rays[at[r < m ? r : 0]];
         o[0][r] = ray.origin.x, o[1][r] = ray.origin.y, o[2][r] = ray.origin.z;
         d[0][r] = ray.dir.x, d[1][r] = ray.dir.y, d[2][r] = ray.dir.z;
         tmin[r] = ray.tmin;
@@ -264,13 +265,13 @@ struct LinePacket {
   // the margin of their interval; the others go to single(i). What SphereLanes::setup and
   // PacketWalk::add compute ray by ray is computed here a batch of rays at a time, with the
   // same operations in every lane: the same bits. Slots past p.count are padding (pad()).
-  template <class Single>
-  static void fill(const Ray* rays, const Lines& l, const std::uint16_t* group, std::size_t n,
+  template <class Rays, class Single>
+  static void fill(const Rays& rays, const Lines& l, const std::uint16_t* group, std::size_t n,
                    float tree_abs, typename Packet::Rays& p, Slid& g, std::uint16_t* members,
                    Single&& single) {
     std::uint64_t valid = 0;
     for (std::size_t r = 0; r < kRays; ++r) {
-      const Ray& ray = rays[group[r < n ? r : 0]];  // past n: a copy of the first, not counted
+      const auto& ray = rays[group[r < n ? r : 0]];  // past n: a copy of the first, not counted
       p.ox[r] = ray.origin.x, p.oy[r] = ray.origin.y, p.oz[r] = ray.origin.z;
       p.dx[r] = ray.dir.x, p.dy[r] = ray.dir.y, p.dz[r] = ray.dir.z;
       p.tmin[r] = ray.tmin, p.tmax[r] = ray.tmax, p.mask[r] = ray.mask;

@@ -59,8 +59,8 @@ struct PacketStream {
   // The rays at positions index[0, n) of rays, sharing a direction from scattered origins, as
   // line packets (bvh/line_packet.hpp): trace(p, iv, frame) traces each packet, single(i) each
   // ray that goes alone, store(p, r, i) the packet's ray r back to ray i.
-  template <class Trace, class Single, class Store>
-  static void lines(const Ray* rays, const std::uint16_t* index, std::size_t n,
+  template <class Rays, class Trace, class Single, class Store>
+  static void lines(const Rays& rays, const std::uint16_t* index, std::size_t n,
                     const TreeSize& tree, Trace&& trace, Single&& single, Store&& store) {
     using Line = LinePacket<A>;
     typename Line::Lines l;
@@ -94,13 +94,13 @@ struct PacketStream {
   // gathers into p those that may join it, their positions in index. single(i) answers each of
   // the others: rays the contract says miss, rays not ahead, rays of another octant than the
   // first, or all of them if too few remain.
-  template <class Single>
-  static bool gather(const Ray* rays, std::size_t n, typename Packet::Rays& p, std::uint16_t* index,
-                     Single&& single) {
+  template <class Rays, class Single>
+  static bool gather(const Rays& rays, std::size_t n, typename Packet::Rays& p,
+                     std::uint16_t* index, Single&& single) {
     p.count = 0;
     unsigned first_octant = 8;
     for (std::size_t i = 0; i < n; ++i) {
-      const Ray& ray = rays[i];
+      const auto& ray = rays[i];
       typename Batch::RaySetup s;
       if (!Batch::setup(ray, s) || !Plan::ahead(ray)) {
         single(i);
@@ -129,8 +129,8 @@ struct PacketStream {
   // other groups, if the plan finds them parallel, as line packets sorted over the window,
   // else one at a time. trace(p, iv, frame), single(i) and store(p, r, i) as for lines.
   static constexpr std::size_t kWindow = Plan::kLineWindow;
-  template <class Trace, class Single, class Store>
-  static void window(const BvhData& bvh, const Ray* rays, std::size_t n, Trace&& trace,
+  template <class Rays, class Trace, class Single, class Store>
+  static void window(const BvhData& bvh, const Rays& rays, std::size_t n, Trace&& trace,
                      Single&& single, Store&& store) {
     const TreeSize tree = tree_size(bvh);
     typename Packet::Rays p;
@@ -158,12 +158,13 @@ struct PacketStream {
     }
   }
 
-  // hits[i] = intersect(bvh, rays[i]), packets where the plan takes them.
-  template <bool kBranchFree, bool kMasked>
-  static void intersect(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+  // hits[i] = intersect(bvh, rays[i]), packets where the plan takes them. Rays and Hits as for
+  // TreeStream (bvh/stream.hpp).
+  template <bool kBranchFree, bool kMasked, class Rays, class Hits>
+  static void intersect(const BvhData& bvh, Rays rays, Hits hits, std::size_t n) {
     for (std::size_t begin = 0; begin < n; begin += kWindow) {
-      const Ray* r0 = rays + begin;
-      Hit* h0 = hits + begin;
+      const Rays r0 = rays + begin;
+      const Hits h0 = hits + begin;
       window(
           bvh, r0, n - begin > kWindow ? kWindow : n - begin,
           [&](typename Packet::Rays& p, const typename Packet::Interval& iv, const auto& frame) {
@@ -179,10 +180,10 @@ struct PacketStream {
   }
 
   // blocked[i] = occluded(bvh, rays[i]), packets where the plan takes them.
-  template <bool kMasked>
-  static void occluded(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n) {
+  template <bool kMasked, class Rays>
+  static void occluded(const BvhData& bvh, Rays rays, bool* blocked, std::size_t n) {
     for (std::size_t begin = 0; begin < n; begin += kWindow) {
-      const Ray* r0 = rays + begin;
+      const Rays r0 = rays + begin;
       bool* b0 = blocked + begin;
       window(
           bvh, r0, n - begin > kWindow ? kWindow : n - begin,

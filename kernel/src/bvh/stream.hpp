@@ -27,8 +27,10 @@ struct TreeStream {
   using Walk = typename TreeWalk<A>::template Walk<kAhead>;
 
   // hits[i] = intersect(bvh, rays[i]): a chunk of rays in turns, in packets, or one at a time,
-  // as the plan says. The tree's leaf test is picked once per call.
-  static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+  // as the plan says. The tree's leaf test is picked once per call. Rays is `const Ray*` or
+  // RayColumns, Hits `Hit*` or HitColumns (storage/ray_columns.hpp): the same path either way.
+  template <class Rays, class Hits>
+  static void intersect_stream(const BvhData& bvh, Rays rays, Hits hits, std::size_t n) {
     const bool masked = bvh.spheres.mask != nullptr;
     if (Plan::branch_free_leaves(bvh)) {
       if (masked)
@@ -43,8 +45,8 @@ struct TreeStream {
     }
   }
 
-  template <bool kBranchFree, bool kMasked>
-  static void intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+  template <bool kBranchFree, bool kMasked, class Rays, class Hits>
+  static void intersect_stream(const BvhData& bvh, Rays rays, Hits hits, std::size_t n) {
     constexpr std::size_t kChunk = Plan::kStreamChunk;
     for (std::size_t begin = 0; begin < n; begin += kChunk) {
       const std::size_t count = n - begin > kChunk ? kChunk : n - begin;
@@ -63,15 +65,16 @@ struct TreeStream {
   // blocked[i] = occluded(bvh, rays[i]): coherent rays (shadow rays towards one light) in
   // packets, the others one at a time. Decided per window of QueryPlan::kLineWindow rays, the
   // line packets' sort window.
-  static void occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n) {
+  template <class Rays>
+  static void occluded_stream(const BvhData& bvh, Rays rays, bool* blocked, std::size_t n) {
     if (bvh.spheres.mask != nullptr)
       occluded_stream<true>(bvh, rays, blocked, n);
     else
       occluded_stream<false>(bvh, rays, blocked, n);
   }
 
-  template <bool kMasked>
-  static void occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n) {
+  template <bool kMasked, class Rays>
+  static void occluded_stream(const BvhData& bvh, Rays rays, bool* blocked, std::size_t n) {
     constexpr std::size_t kWindow = Plan::kLineWindow;
     for (std::size_t begin = 0; begin < n; begin += kWindow) {
       const std::size_t count = n - begin > kWindow ? kWindow : n - begin;
@@ -86,8 +89,8 @@ struct TreeStream {
 
   static constexpr std::size_t kWalks = Plan::kWalks;
 
-  template <bool kBranchFree, bool kMasked>
-  static void intersect_in_turns(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+  template <bool kBranchFree, bool kMasked, class Rays, class Hits>
+  static void intersect_in_turns(const BvhData& bvh, Rays rays, Hits hits, std::size_t n) {
     struct Turn {
       Walk<true> walk;
       typename Batch::RaySetup setup;
@@ -101,13 +104,14 @@ struct TreeStream {
     const auto start = [&](Turn& t) {
       while (next < n) {
         const std::size_t i = next++;
-        if (!Plan::ahead(rays[i])) {  // rare: one ray alone, through the general box test
-          hits[i] = Tree::template intersect<kBranchFree, kMasked>(bvh, rays[i]);
+        const auto& ray = rays[i];  // a Ray of the array, or one made from RayColumns
+        if (!Plan::ahead(ray)) {    // rare: one ray alone, through the general box test
+          hits[i] = Tree::template intersect<kBranchFree, kMasked>(bvh, ray);
           continue;
         }
-        t.best = {rays[i].tmax, kNoHit};
-        if (Batch::setup(rays[i], t.setup)) {
-          t.walk.start(rays[i]);
+        t.best = {ray.tmax, kNoHit};
+        if (Batch::setup(ray, t.setup)) {
+          t.walk.start(ray);
           if (t.walk.first_leaf(bvh, t.best.t, t.first)) {
             t.ray = i;
             return true;

@@ -14,6 +14,7 @@
 #include "point/point_queries.hpp"
 #include "simd/isa_namespace.hpp"
 #include "sphray/query.hpp"
+#include "storage/ray_columns.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
@@ -27,7 +28,9 @@ struct EntryPoints {
   static bool occluded(SphereView v, const Ray& ray) {
     return QueryPlan::scalar(v.count) ? scalar::occluded(v, ray) : Brute::occluded(v, ray);
   }
-  static void intersect_stream(SphereView v, const Ray* rays, Hit* hits, std::size_t n) {
+  // Rays: `const Ray*` or RayColumns, Hits: `Hit*` or HitColumns (storage/ray_columns.hpp).
+  template <class Rays, class Hits>
+  static void brute_stream(SphereView v, Rays rays, Hits hits, std::size_t n) {
     if (QueryPlan::scalar(v.count)) {
       for (std::size_t i = 0; i < n; ++i)
         hits[i] = scalar::intersect(v, rays[i]);
@@ -35,6 +38,12 @@ struct EntryPoints {
     }
     for (std::size_t i = 0; i < n; ++i)
       hits[i] = Brute::intersect(v, rays[i]);
+  }
+  static void intersect_stream(SphereView v, const Ray* rays, Hit* hits, std::size_t n) {
+    brute_stream(v, rays, hits, n);
+  }
+  static void intersect_arrays(SphereView v, const RayArrays& rays, const HitArrays& hits) {
+    brute_stream(v, RayColumns{rays}, HitColumns{hits}, rays.count);
   }
 
   // A tree over so few spheres takes the scalar path too, so that it returns exactly what the
@@ -56,8 +65,13 @@ struct EntryPoints {
     if (QueryPlan::brute_force_tree(bvh)) return Brute::occluded(flat_spheres(bvh), ray);
     return Tree::occluded(bvh, ray);
   }
-  static void bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
-    if (QueryPlan::scalar(bvh.count)) return scalar_bvh_intersect_stream(bvh, rays, hits, n);
+  template <class Rays, class Hits>
+  static void tree_stream(const BvhData& bvh, Rays rays, Hits hits, std::size_t n) {
+    if (QueryPlan::scalar(bvh.count)) {
+      for (std::size_t i = 0; i < n; ++i)
+        hits[i] = scalar_bvh_intersect(bvh, rays[i]);
+      return;
+    }
     if (QueryPlan::brute_force_tree(bvh)) {
       const SphereView v = flat_spheres(bvh);
       for (std::size_t i = 0; i < n; ++i)
@@ -65,6 +79,13 @@ struct EntryPoints {
       return;
     }
     TreeStream<A>::intersect_stream(bvh, rays, hits, n);
+  }
+  static void bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
+    tree_stream(bvh, rays, hits, n);
+  }
+  static void bvh_intersect_arrays(const BvhData& bvh, const RayArrays& rays,
+                                   const HitArrays& hits) {
+    tree_stream(bvh, RayColumns{rays}, HitColumns{hits}, rays.count);
   }
   static void bvh_occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked,
                                   std::size_t n) {
@@ -113,10 +134,12 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::intersect,
           &E::occluded,
           &E::intersect_stream,
+          &E::intersect_arrays,
           E::Tree::kWidth,
           &E::bvh_intersect,
           &E::bvh_occluded,
           &E::bvh_intersect_stream,
+          &E::bvh_intersect_arrays,
           &E::bvh_occluded_stream,
           &E::intersect_all,
           &E::bvh_intersect_all,

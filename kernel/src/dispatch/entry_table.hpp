@@ -7,6 +7,7 @@
 
 #include "sphray/isa.hpp"
 #include "sphray/ray.hpp"
+#include "sphray/ray_arrays.hpp"
 #include "sphray/spheres.hpp"
 
 namespace sphray::detail {
@@ -23,12 +24,16 @@ struct EntryTable {
   bool (*occluded)(SphereView spheres, const Ray& ray);
   /// hits[i] = intersect(spheres, rays[i]) for i < count.
   void (*intersect_stream)(SphereView spheres, const Ray* rays, Hit* hits, std::size_t count);
+  /// The same stream with rays and hits as arrays per quantity (ray_arrays.hpp): hit i is
+  /// intersect(spheres, rays.at(i)) for i < rays.count; hits.count == rays.count.
+  void (*intersect_arrays)(SphereView spheres, const RayArrays& rays, const HitArrays& hits);
   /// The SphereBVH entries (bvh.hpp) for trees of bvh_width children per node and spheres per
   /// leaf batch.
   std::size_t bvh_width;
   Hit (*bvh_intersect)(const BvhData& bvh, const Ray& ray);
   bool (*bvh_occluded)(const BvhData& bvh, const Ray& ray);
   void (*bvh_intersect_stream)(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t count);
+  void (*bvh_intersect_arrays)(const BvhData& bvh, const RayArrays& rays, const HitArrays& hits);
   /// blocked[i] = bvh_occluded(bvh, rays[i]) for i < count.
   void (*bvh_occluded_stream)(const BvhData& bvh, const Ray* rays, bool* blocked,
                               std::size_t count);

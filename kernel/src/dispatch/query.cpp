@@ -6,6 +6,7 @@
 #include "dispatch/entry_table.hpp"
 #include "dispatch/query_plan.hpp"
 #include "sphray/isa.hpp"
+#include "storage/ray_columns.hpp"
 
 namespace sphray {
 
@@ -29,6 +30,11 @@ void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hit
     throw std::length_error("sphray::intersect: rays and hits differ in size");
   detail::entries_for_size(spheres.count)
       .intersect_stream(spheres, rays.data(), hits.data(), rays.size());
+}
+
+void intersect(SphereView spheres, const RayArrays& rays, const HitArrays& hits) {
+  detail::check_arrays(rays, hits);
+  detail::entries_for_size(spheres.count).intersect_arrays(spheres, rays, hits);
 }
 
 // The kernel looked up once for the whole stream; a view has no packets, every ray goes alone.

@@ -69,7 +69,8 @@ struct QueryPlan {
   static constexpr std::size_t kWalks = 4;
   static constexpr std::size_t kStreamChunk = 1024;
   static constexpr std::size_t kInTurnsAbove = std::size_t{4} << 20;
-  static bool walks_in_turns(const BvhData& bvh, const Ray* rays, std::size_t n) {
+  template <class Rays>  // `const Ray*` or RayColumns (storage/ray_columns.hpp), as below
+  static bool walks_in_turns(const BvhData& bvh, const Rays& rays, std::size_t n) {
     return beyond_caches(bvh) && scattered(rays, n);
   }
   // On such a tree the packets (bvh/packet.hpp) prefetch the nodes and leaves they push:
@@ -83,10 +84,11 @@ struct QueryPlan {
   // lie within 60 degrees of each other (cosine over 1/2), judged on one pair in kSampleEvery.
   // Camera rays and mirror reflections of them nearly all do, diffuse bounces a quarter.
   static constexpr std::size_t kSampleEvery = 16;
-  static bool scattered(const Ray* rays, std::size_t n) {
+  template <class Rays>
+  static bool scattered(const Rays& rays, std::size_t n) {
     std::size_t pairs = 0, close = 0;
     for (std::size_t i = 1; i < n; i += kSampleEvery, ++pairs) {
-      const Vec3 &a = rays[i - 1].dir, &b = rays[i].dir;
+      const Vec3 a = rays[i - 1].dir, b = rays[i].dir;
       const float ab = a.x * b.x + a.y * b.y + a.z * b.z;
       const float aa = a.x * a.x + a.y * a.y + a.z * a.z, bb = b.x * b.x + b.y * b.y + b.z * b.z;
       close += ab > 0.0f && 4.0f * ab * ab > aa * bb;  // cosine > 1/2, without sqrt or divide
@@ -122,16 +124,17 @@ struct QueryPlan {
   }
   // Stops at the first ray that decides against a packet: on the groups that fail (shadow
   // rays from scattered hit points, mostly) within a few rays.
-  static bool coherent(const Ray* rays, std::size_t n, float tree_extent) {
+  template <class Rays>
+  static bool coherent(const Rays& rays, std::size_t n, float tree_extent) {
     if (n < kPacketMinRays) return false;
-    const Vec3& f = rays[0].dir;
+    const Vec3 f = rays[0].dir;
     const float ff = f.x * f.x + f.y * f.y + f.z * f.z;
     const float limit = kPacketOrigins * tree_extent;
     const std::size_t far_allowed = n / 4;
     std::size_t far = 0;
     Vec3 lo = rays[0].origin, hi = lo;
     for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 &d = rays[i].dir, &o = rays[i].origin;
+      const Vec3 d = rays[i].dir, o = rays[i].origin;
       const float fd = f.x * d.x + f.y * d.y + f.z * d.z, dd = d.x * d.x + d.y * d.y + d.z * d.z;
       // The cosine over kPacketCosine without sqrt or divide; NaN compares false.
       const bool close = fd > 0.0f && fd * fd > kPacketCosine * kPacketCosine * ff * dd;
@@ -155,14 +158,15 @@ struct QueryPlan {
   // stay consecutive packets: on rtiow-final's shadow rays, whose neighbours start close, line
   // packets for whole chunks ran 30% slower. Stops as soon as too many rays point elsewhere.
   static constexpr float kLineSpan = 1.0f / 4.0f;
-  static bool lines(const Ray* rays, const std::uint16_t* index, std::size_t n) {
+  template <class Rays>
+  static bool lines(const Rays& rays, const std::uint16_t* index, std::size_t n) {
     if (n < kPacketRays) return false;
-    const Vec3& f = rays[index[0]].dir;
+    const Vec3 f = rays[index[0]].dir;
     const float ff = f.x * f.x + f.y * f.y + f.z * f.z;
     const std::size_t far_allowed = n / 8;
     std::size_t far = 0;
     for (std::size_t j = 1; j < n; ++j) {
-      const Vec3& d = rays[index[j]].dir;
+      const Vec3 d = rays[index[j]].dir;
       const float fd = f.x * d.x + f.y * d.y + f.z * d.z, dd = d.x * d.x + d.y * d.y + d.z * d.z;
       const bool close = fd > 0.0f && fd * fd > kPacketCosine * kPacketCosine * ff * dd;
       if (!close && ++far > far_allowed) return false;

@@ -1,0 +1,76 @@
+// RayArrays and HitArrays as the stream code reads a `const Ray*` and writes a `Hit*`: rays[i]
+// is a Ray (made from the arrays' entries i), rays + k the arrays from ray k on, hits[i] = hit
+// stores a Hit's two fields. The stream code is written once over either (bvh/stream.hpp), so
+// a ray given as arrays takes exactly the path, and gets exactly the hit, it would as a Ray.
+// Per-ISA code (simd/isa_namespace.hpp): RayArrays::at, one public inline symbol for every
+// unit, is not called here.
+#pragma once
+
+#include <cstddef>
+#include <stdexcept>
+
+#include "simd/isa_namespace.hpp"
+#include "sphray/ray.hpp"
+#include "sphray/ray_arrays.hpp"
+
+namespace sphray::detail {
+
+/// The public stream calls' checks of their arrays (sphray/query.hpp).
+inline void check_arrays(const RayArrays& rays, const HitArrays& hits) {
+  if (hits.count != rays.count)
+    throw std::length_error("sphray::intersect: rays and hits differ in count");
+  if (rays.count == 0) return;
+  const bool ray_null = rays.ox == nullptr || rays.oy == nullptr || rays.oz == nullptr ||
+                        rays.dx == nullptr || rays.dy == nullptr || rays.dz == nullptr;
+  if (ray_null)
+    throw std::invalid_argument("sphray::intersect: a ray origin or direction array is null");
+  if (hits.t == nullptr || hits.id == nullptr)
+    throw std::invalid_argument("sphray::intersect: a hit array is null");
+}
+
+}  // namespace sphray::detail
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
+
+struct RayColumns {
+  RayArrays arrays;
+
+  Ray operator[](std::size_t i) const {
+    const RayArrays& a = arrays;
+    return {{a.ox[i], a.oy[i], a.oz[i]},
+            {a.dx[i], a.dy[i], a.dz[i]},
+            a.tmin != nullptr ? a.tmin[i] : 0.0f,
+            a.tmax != nullptr ? a.tmax[i] : INFINITY,
+            a.mask != nullptr ? a.mask[i] : kAllBits};
+  }
+  RayColumns operator+(std::size_t k) const {
+    RayArrays a = arrays;
+    a.ox += k, a.oy += k, a.oz += k, a.dx += k, a.dy += k, a.dz += k;
+    if (a.tmin != nullptr) a.tmin += k;
+    if (a.tmax != nullptr) a.tmax += k;
+    if (a.mask != nullptr) a.mask += k;
+    a.count -= k;
+    return {a};
+  }
+};
+
+struct HitColumns {
+  HitArrays arrays;
+
+  /// Where hit i goes: assigning a Hit stores it.
+  struct Slot {
+    float* t;
+    std::uint32_t* id;
+    const Slot& operator=(const Hit& hit) const {
+      *t = hit.t;
+      *id = hit.id;
+      return *this;
+    }
+  };
+  Slot operator[](std::size_t i) const { return {arrays.t + i, arrays.id + i}; }
+  HitColumns operator+(std::size_t k) const {
+    return {{arrays.t + k, arrays.id + k, arrays.count - k}};
+  }
+};
+
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE
