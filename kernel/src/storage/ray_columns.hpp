@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <stdexcept>
 
+#include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/ray_arrays.hpp"
@@ -35,7 +36,7 @@ namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 struct RayColumns {
   RayArrays arrays;
 
-  Ray operator[](std::size_t i) const {
+  SPHRAY_FORCE_INLINE Ray operator[](std::size_t i) const {
     const RayArrays& a = arrays;
     return {{a.ox[i], a.oy[i], a.oz[i]},
             {a.dx[i], a.dy[i], a.dz[i]},
@@ -43,7 +44,7 @@ struct RayColumns {
             a.tmax != nullptr ? a.tmax[i] : INFINITY,
             a.mask != nullptr ? a.mask[i] : kAllBits};
   }
-  RayColumns operator+(std::size_t k) const {
+  SPHRAY_FORCE_INLINE RayColumns operator+(std::size_t k) const {
     RayArrays a = arrays;
     a.ox += k, a.oy += k, a.oz += k, a.dx += k, a.dy += k, a.dz += k;
     if (a.tmin != nullptr) a.tmin += k;
@@ -61,14 +62,14 @@ struct HitColumns {
   struct Slot {
     float* t;
     std::uint32_t* id;
-    const Slot& operator=(const Hit& hit) const {
+    SPHRAY_FORCE_INLINE const Slot& operator=(const Hit& hit) const {
       *t = hit.t;
       *id = hit.id;
       return *this;
     }
   };
-  Slot operator[](std::size_t i) const { return {arrays.t + i, arrays.id + i}; }
-  HitColumns operator+(std::size_t k) const {
+  SPHRAY_FORCE_INLINE Slot operator[](std::size_t i) const { return {arrays.t + i, arrays.id + i}; }
+  SPHRAY_FORCE_INLINE HitColumns operator+(std::size_t k) const {
     return {{arrays.t + k, arrays.id + k, arrays.count - k}};
   }
 };
