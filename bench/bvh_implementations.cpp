@@ -1,6 +1,9 @@
 // sphray::SphereBVH, the accelerated path for large scenes, through the public API only.
+#include <map>
 #include <memory>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "implementations.hpp"
 #include "threads.hpp"
@@ -43,6 +46,49 @@ Implementation stream(int threads) {
   return {"bvh-stream", threads, false, 0, prepare};
 }
 
+// Rays and hits as arrays per quantity (sphray/ray_arrays.hpp), kept for one set of rays.
+struct Columns {
+  std::vector<float> ox, oy, oz, dx, dy, dz, tmin, tmax, t;
+  std::vector<std::uint32_t> mask, id;
+
+  explicit Columns(std::span<const Ray> rays) {
+    for (const Ray& r : rays) {
+      ox.push_back(r.origin.x), oy.push_back(r.origin.y), oz.push_back(r.origin.z);
+      dx.push_back(r.dir.x), dy.push_back(r.dir.y), dz.push_back(r.dir.z);
+      tmin.push_back(r.tmin), tmax.push_back(r.tmax), mask.push_back(r.mask);
+    }
+    t.resize(rays.size());
+    id.resize(rays.size());
+  }
+  RayArrays rays() const {
+    return {ox.data(), oy.data(),   oz.data(),   dx.data(),   dy.data(),
+            dz.data(), tmin.data(), tmax.data(), mask.data(), ox.size()};
+  }
+  HitArrays hits() { return {t.data(), id.data(), t.size()}; }
+};
+
+// The stream with the rays as arrays per quantity, as a wavefront tracer keeps them: the
+// arrays are made before the timed loop (for the rays it traces and for the check's sample);
+// inside it, the hits are copied back into Hits for the benchmark, a cost the Ray call does
+// not pay.
+Implementation stream_arrays() {
+  auto prepare = [](const Workload& w) -> Trace {
+    auto columns = std::make_shared<std::map<const Ray*, Columns>>();
+    columns->emplace(w.rays.data(), Columns(w.rays));
+    columns->emplace(w.sample.data(), Columns(w.sample));
+    return [bvh = bvh_for(w), columns](std::span<const Ray> rays, std::span<Hit> hits) {
+      auto it = columns->find(rays.data());
+      if (it == columns->end() || it->second.ox.size() != rays.size())
+        it = columns->insert_or_assign(rays.data(), Columns(rays)).first;
+      Columns& c = it->second;
+      intersect(*bvh, c.rays(), c.hits());
+      for (std::size_t i = 0; i < rays.size(); ++i)
+        hits[i] = {c.t[i], c.id[i]};
+    };
+  };
+  return {"bvh-arrays", 1, false, 0, prepare};
+}
+
 Builder build(int threads) {
   auto prepare = [threads](const SphereSoA& spheres) -> std::function<Built()> {
     return [threads, view = spheres.view()] {
@@ -72,7 +118,7 @@ Builder refit(int threads) {
 }  // namespace
 
 std::vector<Implementation> bvh_implementations() {
-  std::vector<Implementation> impls{per_ray(), stream(1)};
+  std::vector<Implementation> impls{per_ray(), stream(1), stream_arrays()};
   if (all_threads() > 1) impls.push_back(stream(all_threads()));
   return impls;
 }

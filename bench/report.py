@@ -191,7 +191,7 @@ def columns(res):
     n = res.all_threads
     if n > 1:
         cols.append((f"dispatch stream, {n} threads", "dispatch-stream", n))
-    for impl in ("bvh", "bvh-stream"):
+    for impl in ("bvh", "bvh-stream", "bvh-arrays"):
         if res.has(impl):
             cols.append((impl.replace("-", " "), impl, 1))
     if n > 1 and res.has("bvh-stream", n):
@@ -603,7 +603,8 @@ def bounce_impls(res):
     """(label, impl, threads) of the bounce table: brute force's stream, the tree, Embree."""
     n = res.all_threads
     cols = [("brute force stream", "dispatch-stream", 1), ("tree per ray", "bvh", 1),
-            ("tree stream", "bvh-stream", 1), ("Embree rtcIntersect1", "embree-intersect1", 1),
+            ("tree stream", "bvh-stream", 1), ("tree stream, arrays", "bvh-arrays", 1),
+            ("Embree rtcIntersect1", "embree-intersect1", 1),
             ("Embree rtcIntersect8", "embree-intersect8", 1)]
     if n > 1:
         cols += [(f"brute force stream, {n} threads", "dispatch-stream", n),

@@ -38,8 +38,10 @@ struct BvhTraversal {
     return masked ? intersect<false, true>(bvh, ray) : intersect<false, false>(bvh, ray);
   }
 
+  // Inline in the stream's loops, whichever layout their rays come in (bvh/stream.hpp): left to
+  // itself GCC inlined it into the loop over Rays but not into the one over RayColumns.
   template <bool kBranchFree, bool kMasked>
-  static Hit intersect(const BvhData& bvh, const Ray& ray) {
+  SPHRAY_FORCE_INLINE static Hit intersect(const BvhData& bvh, const Ray& ray) {
     typename Batch::RaySetup s;
     Hit best{ray.tmax, kNoHit};
     if (!Batch::setup(ray, s)) return best;
