@@ -57,7 +57,7 @@ struct TreeStream {
                                                                   count);
       } else {
         for (std::size_t i = begin; i < begin + count; ++i)
-          hits[i] = Tree::template intersect<kBranchFree, kMasked>(bvh, rays[i]);
+          hits[i] = Tree::template intersect_inlined<kBranchFree, kMasked>(bvh, rays[i]);
       }
     }
   }
@@ -106,7 +106,7 @@ struct TreeStream {
         const std::size_t i = next++;
         const auto& ray = rays[i];  // a Ray of the array, or one made from RayColumns
         if (!Plan::ahead(ray)) {    // rare: one ray alone, through the general box test
-          hits[i] = Tree::template intersect<kBranchFree, kMasked>(bvh, ray);
+          hits[i] = Tree::template intersect_inlined<kBranchFree, kMasked>(bvh, ray);
           continue;
         }
         t.best = {ray.tmax, kNoHit};
