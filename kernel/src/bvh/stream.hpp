@@ -14,6 +14,7 @@
 #include "dispatch/query_plan.hpp"
 #include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
+#include "storage/ray_columns.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
@@ -56,9 +57,28 @@ struct TreeStream {
         PacketStream<A>::template intersect<kBranchFree, kMasked>(bvh, rays + begin, hits + begin,
                                                                   count);
       } else {
-        for (std::size_t i = begin; i < begin + count; ++i)
-          hits[i] = Tree::template intersect_inlined<kBranchFree, kMasked>(bvh, rays[i]);
+        one_at_a_time<kBranchFree, kMasked>(bvh, rays + begin, hits + begin, count);
       }
+    }
+  }
+
+  template <bool kBranchFree, bool kMasked, class Hits>
+  static void one_at_a_time(const BvhData& bvh, const Ray* rays, Hits hits, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i)
+      hits[i] = Tree::template intersect_inlined<kBranchFree, kMasked>(bvh, rays[i]);
+  }
+  // Rays given as arrays are copied into Rays a few at a time before their walks: the walk
+  // reads its Ray through memory, and a Ray stored just before is read back at a cost.
+  template <bool kBranchFree, bool kMasked, class Hits>
+  static void one_at_a_time(const BvhData& bvh, const RayColumns& rays, Hits hits, std::size_t n) {
+    constexpr std::size_t kStaged = 16;
+    Ray staged[kStaged];
+    for (std::size_t begin = 0; begin < n; begin += kStaged) {
+      const std::size_t m = n - begin < kStaged ? n - begin : kStaged;
+      for (std::size_t j = 0; j < m; ++j)
+        staged[j] = rays[begin + j];
+      for (std::size_t j = 0; j < m; ++j)
+        hits[begin + j] = Tree::template intersect_inlined<kBranchFree, kMasked>(bvh, staged[j]);
     }
   }
 
