@@ -137,6 +137,51 @@ TEST_P(CApiAgreement, IntersectMatchesTheCppApiAndTheScalarReference) {
   }
 }
 
+// The arrays form gives each ray the hit the struct calls give it: with per-ray bounds, with
+// NULL bounds (the defaults), and with per-ray masks (sphray_intersect_masked's).
+TEST_P(CApiAgreement, ArraysMatchTheStructCalls) {
+  const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(100'000));
+  std::vector<float> ox, oy, oz, dx, dy, dz, tmin, tmax;
+  std::vector<std::uint32_t> masks;
+  std::vector<sphray_ray> unbounded;
+  for (std::size_t i = 0; i < n; ++i) {
+    const sphray_ray& r = rays_[i];
+    ox.push_back(r.ox), oy.push_back(r.oy), oz.push_back(r.oz);
+    dx.push_back(r.dx), dy.push_back(r.dy), dz.push_back(r.dz);
+    tmin.push_back(r.tmin), tmax.push_back(r.tmax);
+    masks.push_back(static_cast<std::uint32_t>(i % 3));  // 0: the ray sees nothing
+    unbounded.push_back({r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, 0.0f, INFINITY});
+  }
+  sphray_ray_arrays arrays{ox.data(), oy.data(),   oz.data(),   dx.data(), dy.data(),
+                           dz.data(), tmin.data(), tmax.data(), nullptr};
+  std::vector<float> t(n);
+  std::vector<std::uint32_t> id(n);
+  std::vector<sphray_hit> expected(n);
+  const auto expect_same = [&](const char* what) {
+    std::size_t found = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      ASSERT_TRUE(id[i] == expected[i].id && same_bits(t[i], expected[i].t))
+          << what << " ray " << i << ": arrays " << id[i] << " " << t[i] << ", structs "
+          << expected[i].id << " " << expected[i].t;
+      found += id[i] != SPHRAY_NO_HIT;
+    }
+    EXPECT_GT(found, n / 20) << what;  // the rays do meet spheres
+  };
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), expected.data(), n), SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect_arrays(scene_, &arrays, t.data(), id.data(), n), SPHRAY_OK)
+      << sphray_last_error();
+  expect_same("bounds");
+  arrays.tmin = arrays.tmax = nullptr;
+  ASSERT_EQ(sphray_intersect(scene_, unbounded.data(), expected.data(), n), SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect_arrays(scene_, &arrays, t.data(), id.data(), n), SPHRAY_OK);
+  expect_same("no bounds");
+  arrays.mask = masks.data();
+  ASSERT_EQ(sphray_intersect_masked(scene_, unbounded.data(), masks.data(), expected.data(), n),
+            SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect_arrays(scene_, &arrays, t.data(), id.data(), n), SPHRAY_OK);
+  expect_same("masks");
+}
+
 TEST_P(CApiAgreement, OccludedMatchesTheCppApi) {
   std::vector<unsigned char> occluded(rays_.size(), 7);
   ASSERT_EQ(sphray_occluded(scene_, rays_.data(), occluded.data(), rays_.size()), SPHRAY_OK);

@@ -137,6 +137,36 @@ TEST_F(CApiErrors, QueriesRefuseNullPointersAndBadCounts) {
                  "scene is NULL");
 }
 
+TEST_F(CApiErrors, ArraysRefuseNullPointersAndBadCounts) {
+  const char* f = "sphray_intersect_arrays";
+  const float ox[2] = {0, 0}, oy[2] = {0, 0}, oz[2] = {0, 0};
+  const float dx[2] = {0, 0}, dy[2] = {0, 1}, dz[2] = {-1, 0};
+  const sphray_ray_arrays arrays{ox, oy, oz, dx, dy, dz, nullptr, nullptr, nullptr};
+  float t[2] = {};
+  std::uint32_t id[2] = {};
+  expect_failure(sphray_intersect_arrays(nullptr, &arrays, t, id, 2), SPHRAY_ERROR_NULL_POINTER, f,
+                 "scene is NULL");
+  expect_failure(sphray_intersect_arrays(scene, nullptr, t, id, 2), SPHRAY_ERROR_NULL_POINTER, f,
+                 "rays is NULL");
+  expect_failure(sphray_intersect_arrays(scene, &arrays, nullptr, id, 2), SPHRAY_ERROR_NULL_POINTER,
+                 f, "NULL");
+  expect_failure(sphray_intersect_arrays(scene, &arrays, t, nullptr, 2), SPHRAY_ERROR_NULL_POINTER,
+                 f, "id is NULL");
+  sphray_ray_arrays no_dy = arrays;
+  no_dy.dy = nullptr;
+  expect_failure(sphray_intersect_arrays(scene, &no_dy, t, id, 2), SPHRAY_ERROR_NULL_POINTER, f,
+                 "direction array is NULL");
+  expect_failure(sphray_intersect_arrays(scene, &arrays, t, id, 0), SPHRAY_ERROR_INVALID_ARGUMENT,
+                 f, "count is 0");
+  expect_failure(sphray_intersect_arrays(scene, &arrays, t, id, PTRDIFF_MAX),
+                 SPHRAY_ERROR_TOO_LARGE, f, "count exceeds");
+  ASSERT_EQ(sphray_intersect_arrays(scene, &arrays, t, id, 2), SPHRAY_OK) << sphray_last_error();
+  EXPECT_EQ(id[0], 0u);  // the sphere at z = -1 of radius 0.5: t = 0.5
+  EXPECT_EQ(t[0], 0.5f);
+  EXPECT_EQ(id[1], SPHRAY_NO_HIT);
+  EXPECT_EQ(t[1], INFINITY);
+}
+
 TEST_F(CApiErrors, SpawnRefusesNullPointersAndBadCounts) {
   const char* f = "sphray_spawn";
   sphray_ray out[2];

@@ -138,6 +138,23 @@ SPHRAY_API int sphray_intersect(const sphray_scene* scene, const sphray_ray* ray
 SPHRAY_API int sphray_occluded(const sphray_scene* scene, const sphray_ray* rays,
                                unsigned char* occluded, size_t count);
 
+/* Rays as one array per quantity, the layout a wavefront tracer keeps its paths in: ray i goes
+ * from (ox[i], oy[i], oz[i]) along (dx[i], dy[i], dz[i]) for tmin[i] < t < tmax[i] and has the
+ * mask mask[i]. tmin, tmax and mask may be NULL: every ray then takes 0, INFINITY and every
+ * bit. */
+typedef struct sphray_ray_arrays {
+  const float *ox, *oy, *oz;
+  const float *dx, *dy, *dz;
+  const float *tmin, *tmax;
+  const uint32_t* mask;
+} sphray_ray_arrays;
+
+/* t[i], id[i] = the closest hit of ray i of rays, for i < count: the hit sphray_intersect (or
+ * sphray_intersect_masked) gives the same ray, bit for bit, without packing the rays into
+ * sphray_ray structs. */
+SPHRAY_API int sphray_intersect_arrays(const sphray_scene* scene, const sphray_ray_arrays* rays,
+                                       float* t, uint32_t* id, size_t count);
+
 /* sphray_intersect and sphray_occluded for rays with masks: ray i has the mask masks[i]. */
 SPHRAY_API int sphray_intersect_masked(const sphray_scene* scene, const sphray_ray* rays,
                                        const uint32_t* masks, sphray_hit* hits, size_t count);

@@ -1,5 +1,6 @@
-// sphray_intersect, sphray_occluded (and their _parallel forms), sphray_surface, sphray_spawn:
-// each converts between the C structs and sphray::Ray / Hit / Surface and calls the C++ API.
+// sphray_intersect, sphray_occluded (and their _parallel forms), sphray_intersect_arrays,
+// sphray_surface, sphray_spawn: each converts between the C structs and sphray::Ray / Hit /
+// Surface (or hands the arrays over as RayArrays / HitArrays) and calls the C++ API.
 #include <algorithm>
 #include <array>
 
@@ -73,6 +74,25 @@ int sphray_intersect(const sphray_scene* scene, const sphray_ray* rays, sphray_h
     return status;
   return guarded(kFunction, [&] {
     intersect_range(*scene->scene, rays, nullptr, hits, 0, count);
+    return SPHRAY_OK;
+  });
+}
+
+int sphray_intersect_arrays(const sphray_scene* scene, const sphray_ray_arrays* rays, float* t,
+                            uint32_t* id, size_t count) {
+  constexpr const char* kFunction = "sphray_intersect_arrays";
+  if (int status = check_query(scene, rays, t, count, kFunction); status != SPHRAY_OK)
+    return status;
+  if (int status = check_pointer(id, kFunction, "id is NULL"); status != SPHRAY_OK) return status;
+  const bool complete = rays->ox != nullptr && rays->oy != nullptr && rays->oz != nullptr &&
+                        rays->dx != nullptr && rays->dy != nullptr && rays->dz != nullptr;
+  if (!complete)
+    return fail(SPHRAY_ERROR_NULL_POINTER, kFunction, "a ray origin or direction array is NULL");
+  return guarded(kFunction, [&] {
+    const sphray::RayArrays in{rays->ox, rays->oy,   rays->oz,   rays->dx,   rays->dy,
+                               rays->dz, rays->tmin, rays->tmax, rays->mask, count};
+    const sphray::HitArrays out{t, id, count};
+    scene->scene->answer([&](const auto& spheres) { sphray::intersect(spheres, in, out); });
     return SPHRAY_OK;
   });
 }
