@@ -85,7 +85,7 @@ static_assert(kWavefront * kSamplesPerPass <= 65536, "a path's entry must fit Wa
 // scatters. A path's light goes to its own entry (sample, pixel) and the entries are summed in
 // sample order at the end, so a pixel's sum has the same bits as one sample at a time. Paths
 // that end leave their lanes to the next samples' paths: the wavefront stays full until the
-// last paths start. Fixed-size buffers for the rays (the light's entries are allocated per call).
+// last paths start. Fixed-size buffers for the rays, and the thread's own for the light's entries.
 class TileTracer {
  public:
   TileTracer(const Scene& scene, const Camera& camera, const RayQueries& queries,
@@ -104,7 +104,11 @@ class TileTracer {
     Wavefront w;
     const std::size_t pixels = tile.pixels();
     const std::size_t paths = pixels * count;
-    std::vector<Vec3> radiance(paths, Vec3{0, 0, 0});
+    // Every path writes its entry (shade()), so the entries need no zeroing: the thread's
+    // buffer, allocated once, is taken as it is.
+    thread_local std::vector<Vec3> entries;
+    if (entries.size() < paths) entries.resize(kWavefront * kSamplesPerPass);
+    Vec3* const radiance = entries.data();
     PathCursor next{tile, first};
     std::int64_t kernel_ns = 0;
     std::uint64_t rays = 0;
@@ -121,7 +125,7 @@ class TileTracer {
           std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - kernel_start).count();
       if (recorder != nullptr) (*recorder)(round, std::span(w.rays.data(), w.live));
       rays += w.live;
-      passes_.shade(w, table_, scene_.sky, radiance.data());
+      passes_.shade(w, table_, scene_.sky, radiance);
     }
     for (std::size_t sample = 0; sample < count; ++sample) {
       for (std::size_t i = 0; i < pixels; ++i)

@@ -7,8 +7,11 @@
 
 #include "sphray/render/camera.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <limits>
 
 namespace sphray::render::SPHRAY_SHADE_ISA {
@@ -40,11 +43,63 @@ float away(float x, float sign) {
   return sign == 0.0f || x != x ? x : moved;
 }
 
-// Each live path's sphere: its row's fields, one array per quantity. A loop that vectorises
-// with gathers where the instruction set has them (AVX2 on).
-void gather_rows(Wavefront& w, const SphereShading* __restrict rows) {
-  const std::size_t live = w.live;
-  for (std::size_t k = 0; k < live; ++k) {
+// Eight floats (or their bits), moved between layouts by shuffles of GCC's vector extensions:
+// the build's flags pick the instructions (256-bit ones where it has them, pairs of 128-bit ones
+// or scalars where not). Moves only: every copy gives the same bits.
+using Floats8 = float __attribute__((vector_size(32)));
+static_assert(sizeof(Floats8) == 8 * sizeof(float));
+
+// Vectors by reference only: passing one by value would depend on the instruction set's ABI.
+void load8(Floats8& v, const void* from) {
+  std::memcpy(&v, from, sizeof v);
+}
+void store8(void* to, const Floats8& v) {
+  std::memcpy(to, &v, sizeof v);
+}
+
+// Eight vectors transposed in place: v[i][j] becomes v[j][i].
+void transpose8(Floats8 (&v)[8]) {
+  Floats8 t[8], s[8];
+  for (int i = 0; i < 8; i += 2) {  // pairs of rows interleaved
+    t[i] = __builtin_shufflevector(v[i], v[i + 1], 0, 8, 1, 9, 4, 12, 5, 13);
+    t[i + 1] = __builtin_shufflevector(v[i], v[i + 1], 2, 10, 3, 11, 6, 14, 7, 15);
+  }
+  for (int i = 0; i < 8; i += 4) {  // then pairs of those pairs
+    s[i] = __builtin_shufflevector(t[i], t[i + 2], 0, 1, 8, 9, 4, 5, 12, 13);
+    s[i + 1] = __builtin_shufflevector(t[i], t[i + 2], 2, 3, 10, 11, 6, 7, 14, 15);
+    s[i + 2] = __builtin_shufflevector(t[i + 1], t[i + 3], 0, 1, 8, 9, 4, 5, 12, 13);
+    s[i + 3] = __builtin_shufflevector(t[i + 1], t[i + 3], 2, 3, 10, 11, 6, 7, 14, 15);
+  }
+  for (int i = 0; i < 4; ++i) {  // then the halves of four rows
+    v[i] = __builtin_shufflevector(s[i], s[i + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+    v[i + 4] = __builtin_shufflevector(s[i], s[i + 4], 4, 5, 6, 7, 12, 13, 14, 15);
+  }
+}
+
+// A Ray's first eight floats: origin, direction, tmin and tmax.
+static_assert(offsetof(Ray, origin) == 0 && offsetof(Ray, dir) == 12 && offsetof(Ray, tmax) == 28);
+
+// Each live path's sphere: its row's fields, one array per quantity. Eight lanes at a time,
+// their rows loaded whole and transposed: a loop of one load a field costs some 30 instructions
+// a lane (GCC's tuning here emits no gather instructions). The last lanes one by one.
+void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t begin,
+                 std::size_t end) {
+  std::size_t k = begin;
+  for (; k + 8 <= end; k += 8) {
+    Floats8 lo[8], hi[8];
+    for (int i = 0; i < 8; ++i) {
+      load8(lo[i], &rows[w.row[k + i]].cx);
+      load8(hi[i], &rows[w.row[k + i]].ag);
+    }
+    transpose8(lo);
+    transpose8(hi);
+    store8(&w.cx[k], lo[0]), store8(&w.cy[k], lo[1]), store8(&w.cz[k], lo[2]);
+    store8(&w.radius[k], lo[3]);
+    store8(&w.ex[k], lo[4]), store8(&w.ey[k], lo[5]), store8(&w.ez[k], lo[6]);
+    store8(&w.ar[k], lo[7]), store8(&w.ag[k], hi[0]), store8(&w.ab[k], hi[1]);
+    store8(&w.fuzz[k], hi[2]), store8(&w.ior[k], hi[3]), store8(&w.kind[k], hi[4]);
+  }
+  for (; k < end; ++k) {
     const SphereShading& s = rows[w.row[k]];
     w.cx[k] = s.cx, w.cy[k] = s.cy, w.cz[k] = s.cz, w.radius[k] = s.radius;
     w.ex[k] = s.ex, w.ey[k] = s.ey, w.ez[k] = s.ez;
@@ -53,25 +108,36 @@ void gather_rows(Wavefront& w, const SphereShading* __restrict rows) {
   }
 }
 
-// Each live path's ray, hit and sphere, one array per quantity.
-void gather(Wavefront& w, const ShadingTable& table) {
-  const std::size_t live = w.live;
-  for (std::size_t k = 0; k < live; ++k) {
+// Each live path's ray (eight at a time transposed, the last ones one by one), hit and sphere,
+// one array per quantity.
+void gather(Wavefront& w, const ShadingTable& table, std::size_t begin, std::size_t end) {
+  std::size_t k = begin;
+  for (; k + 8 <= end; k += 8) {
+    Floats8 v[8];
+    for (int i = 0; i < 8; ++i)
+      load8(v[i], &w.rays[k + i]);
+    transpose8(v);
+    store8(&w.ox[k], v[0]), store8(&w.oy[k], v[1]), store8(&w.oz[k], v[2]);
+    store8(&w.dx[k], v[3]), store8(&w.dy[k], v[4]), store8(&w.dz[k], v[5]);
+  }
+  for (; k < end; ++k) {
     const Ray& ray = w.rays[k];
     w.ox[k] = ray.origin.x, w.oy[k] = ray.origin.y, w.oz[k] = ray.origin.z;
     w.dx[k] = ray.dir.x, w.dy[k] = ray.dir.y, w.dz[k] = ray.dir.z;
+  }
+  for (k = begin; k < end; ++k) {
     w.t[k] = w.hits[k].t;
     w.found[k] = w.hits[k].found();
     w.row[k] = static_cast<std::int32_t>(table.index(w.hits[k].id));
   }
-  gather_rows(w, table.rows());
+  gather_rows(w, table.rows(), begin, end);
 }
 
 // sphray::surface() for every lane, the unit incoming direction, the normal against it, and the
 // sky light of a miss.
-void surfaces(Wavefront& w, const Sky& sky) {
+void surfaces(Wavefront& w, const Sky& sky, std::size_t begin, std::size_t end) {
   const Vec3 horizon = sky.horizon, zenith = sky.zenith;  // no aliasing the lanes: vectorised
-  for (std::size_t k = 0; k < w.live; ++k) {
+  for (std::size_t k = begin; k < end; ++k) {
     const float px = w.ox[k] + w.t[k] * w.dx[k];
     const float py = w.oy[k] + w.t[k] * w.dy[k];
     const float pz = w.oz[k] + w.t[k] * w.dz[k];
@@ -139,10 +205,9 @@ float uniform_at(std::uint64_t counter) {
 // inside, pi/4 of them); then, one lane at a time, the rest: the rejected points' next tries and
 // the dielectrics. (The same draws before, with one branch per material, cost more: the draws
 // then ran one lane at a time.)
-void draw(Wavefront& w) {
+void draw(Wavefront& w, std::size_t begin, std::size_t end) {
   constexpr std::uint64_t kStep = PathRandom::kStep;
-  const std::size_t live = w.live;  // a copy: the counters' stores could alias it, as integers
-  for (std::size_t k = 0; k < live; ++k) {
+  for (std::size_t k = begin; k < end; ++k) {
     const std::uint64_t counter = w.counter[k];
     const float u = 2.0f * uniform_at(counter + kStep) - 1.0f;
     const float v = 2.0f * uniform_at(counter + 2 * kStep) - 1.0f;
@@ -161,7 +226,7 @@ void draw(Wavefront& w) {
     w.redraw[k] = (wants & (1 - inside)) | (w.found[k] & (kind == kDielectric ? 1 : 0));
   }
   std::size_t count = 0;  // the lanes to redraw, listed without a branch
-  for (std::size_t k = 0; k < w.live; ++k) {
+  for (std::size_t k = begin; k < end; ++k) {
     w.listed[count] = static_cast<std::uint16_t>(k);
     count += static_cast<std::size_t>(w.redraw[k]);
   }
@@ -194,8 +259,8 @@ void offset_origin(Wavefront& w, std::size_t k, float dx, float dy, float dz) {
 
 // scatter()'s direction and attenuation for every lane, the three materials computed and one
 // selected, and spawn()'s origin of the next ray.
-void scatter_all(Wavefront& w) {
-  for (std::size_t k = 0; k < w.live; ++k) {
+void scatter_all(Wavefront& w, std::size_t begin, std::size_t end) {
+  for (std::size_t k = begin; k < end; ++k) {
     const float nx = w.onx[k], ny = w.ony[k], nz = w.onz[k];
     const float ux = w.ux[k], uy = w.uy[k], uz = w.uz[k];
     const float vx = w.vx[k], vy = w.vy[k], vz = w.vz[k];
@@ -241,13 +306,16 @@ void scatter_all(Wavefront& w) {
   }
 }
 
-// Misses hand their light to their pixel; the paths still going move to the front, their next
-// rays into the kernel's array. Written for every lane, kept only for the live ones: no branch.
-void compact(Wavefront& w, Vec3* radiance) {
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < w.live; ++k) {
+// Every path writes its light to its entry: 0 while it hits, its sky light once it misses (and
+// then ends), so the entry holds 0 + the light, the sum the entry had when misses added their
+// light to entries set to 0: the same bits, without reading the entry. The paths still going
+// move to the front (from lane kept on), their next rays into the kernel's array. Written for
+// every lane, kept only for the live ones: no branch. Returns the lanes kept so far.
+std::size_t compact(Wavefront& w, Vec3* radiance, std::size_t begin, std::size_t end,
+                    std::size_t kept) {
+  for (std::size_t k = begin; k < end; ++k) {
     const std::uint16_t s = w.slot[k];
-    radiance[s] += Vec3{w.sr[k], w.sg[k], w.sb[k]};
+    radiance[s] = Vec3{0.0f + w.sr[k], 0.0f + w.sg[k], 0.0f + w.sb[k]};
     w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
     w.tr[kept] = w.tr[k], w.tg[kept] = w.tg[k], w.tb[kept] = w.tb[k];
     w.counter[kept] = w.counter[k];
@@ -255,7 +323,7 @@ void compact(Wavefront& w, Vec3* radiance) {
     w.slot[kept] = s;
     kept += static_cast<std::size_t>(w.alive[k]);
   }
-  w.live = kept;
+  return kept;
 }
 
 // The rejected lens points' next tries, one lane at a time: their draws go on past the first
@@ -303,12 +371,24 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
     w.rays[k] = copy.ray(w.px[k], w.py[k], w.vx[k], w.vy[k]);  // the pinhole's without a lens
 }
 
+// The lanes that go through all the passes together: their scratch, some 40 arrays of them,
+// stays in the L1 cache from one pass to the next (the whole wavefront's is twice its size).
+// Every lane's result is its own, so the order of the lanes' work changes no bits; compact()
+// writes only lanes the passes are done with (a path moves only towards the front).
+constexpr std::size_t kChunk = 64;
+
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance) {
-  gather(w, table);
-  surfaces(w, sky);
-  draw(w);
-  scatter_all(w);
-  compact(w, radiance);
+  const std::size_t live = w.live;
+  std::size_t kept = 0;
+  for (std::size_t begin = 0; begin < live; begin += kChunk) {
+    const std::size_t end = std::min(live, begin + kChunk);
+    gather(w, table, begin, end);
+    surfaces(w, sky, begin, end);
+    draw(w, begin, end);
+    scatter_all(w, begin, end);
+    kept = compact(w, radiance, begin, end, kept);
+  }
+  w.live = kept;
 }
 
 }  // namespace sphray::render::SPHRAY_SHADE_ISA
