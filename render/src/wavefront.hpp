@@ -58,7 +58,7 @@ using Lanes = std::array<T, kWavefront + 64 / sizeof(T)>;
 /// The live paths are packed at the front; the tracer fills the lanes behind them with new paths.
 /// 69 KiB: the tracer keeps one on its thread's stack per tile and pass.
 struct Wavefront {
-  std::array<Ray, kWavefront> rays;
+  std::array<Ray, kWavefront> rays;  // the passes write origin to tmax: the masks stay as made
   std::array<Hit, kWavefront> hits;
   alignas(64) Lanes<float> tr, tg, tb;  // throughput
   Lanes<std::uint64_t> counter;         // each path's PathRandom counter

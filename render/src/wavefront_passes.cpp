@@ -57,8 +57,9 @@ void store8(void* to, const Floats8& v) {
   std::memcpy(to, &v, sizeof v);
 }
 
-// Eight vectors transposed in place: v[i][j] becomes v[j][i].
-void transpose8(Floats8 (&v)[8]) {
+// Eight vectors transposed in place: v[i][j] becomes v[j][i]. Inline, or the vectors go through
+// memory.
+[[gnu::always_inline]] inline void transpose8(Floats8 (&v)[8]) {
   Floats8 t[8], s[8];
   for (int i = 0; i < 8; i += 2) {  // pairs of rows interleaved
     t[i] = __builtin_shufflevector(v[i], v[i + 1], 0, 8, 1, 9, 4, 12, 5, 13);
@@ -308,20 +309,47 @@ void scatter_all(Wavefront& w, std::size_t begin, std::size_t end) {
 
 // Every path writes its light to its entry: 0 while it hits, its sky light once it misses (and
 // then ends), so the entry holds 0 + the light, the sum the entry had when misses added their
-// light to entries set to 0: the same bits, without reading the entry. The paths still going
-// move to the front (from lane kept on), their next rays into the kernel's array. Written for
-// every lane, kept only for the live ones: no branch. Returns the lanes kept so far.
+// light to entries set to 0: the same bits, without reading the entry. A path still going moves
+// to lane kept. Returns the lanes kept after lane k.
+std::size_t move_path(Wavefront& w, Vec3* radiance, std::size_t k, std::size_t kept) {
+  const std::uint16_t s = w.slot[k];
+  radiance[s] = Vec3{0.0f + w.sr[k], 0.0f + w.sg[k], 0.0f + w.sb[k]};
+  w.tr[kept] = w.tr[k], w.tg[kept] = w.tg[k], w.tb[kept] = w.tb[k];
+  w.counter[kept] = w.counter[k];
+  w.rays_left[kept] = w.rays_left[k];
+  w.slot[kept] = s;
+  return kept + static_cast<std::size_t>(w.alive[k]);
+}
+
+// Lanes k to k + 8's next rays as the kernel's Rays' first 8 floats (the mask stays as the Ray
+// was made), by a transpose: row i is lane k + i's ray.
+void next_rays(const Wavefront& w, std::size_t k, Floats8 (&rays)[8]) {
+  load8(rays[0], &w.ox[k]), load8(rays[1], &w.oy[k]), load8(rays[2], &w.oz[k]);
+  load8(rays[3], &w.dx[k]), load8(rays[4], &w.dy[k]), load8(rays[5], &w.dz[k]);
+  const Ray unbounded{};  // tmin and tmax as every Ray has them
+  rays[6] = Floats8{} + unbounded.tmin;
+  rays[7] = Floats8{} + unbounded.tmax;
+  transpose8(rays);
+}
+
+// Misses hand their light to their pixel; the paths still going move to the front (from lane
+// kept on), their next rays into the kernel's array. Written for every lane, kept only for the
+// live ones: no branch. Eight lanes' rays transposed at a time (a Ray built one lane at a time
+// takes some 15 instructions), the last ones one by one. Returns the lanes kept so far.
 std::size_t compact(Wavefront& w, Vec3* radiance, std::size_t begin, std::size_t end,
                     std::size_t kept) {
-  for (std::size_t k = begin; k < end; ++k) {
-    const std::uint16_t s = w.slot[k];
-    radiance[s] = Vec3{0.0f + w.sr[k], 0.0f + w.sg[k], 0.0f + w.sb[k]};
+  std::size_t k = begin;
+  for (; k + 8 <= end; k += 8) {
+    Floats8 rays[8];
+    next_rays(w, k, rays);
+    for (std::size_t i = 0; i < 8; ++i) {
+      store8(&w.rays[kept], rays[i]);
+      kept = move_path(w, radiance, k + i, kept);
+    }
+  }
+  for (; k < end; ++k) {
     w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
-    w.tr[kept] = w.tr[k], w.tg[kept] = w.tg[k], w.tb[kept] = w.tb[k];
-    w.counter[kept] = w.counter[k];
-    w.rays_left[kept] = w.rays_left[k];
-    w.slot[kept] = s;
-    kept += static_cast<std::size_t>(w.alive[k]);
+    kept = move_path(w, radiance, k, kept);
   }
   return kept;
 }
