@@ -31,7 +31,8 @@ struct alignas(64) SphereShading {
   float ar, ag, ab;  // the attenuation: the albedo, 1 for a dielectric (as scatter() returns)
   float fuzz, ior;
   std::int32_t kind;  // MaterialKind
-  std::int32_t unused[3] = {};
+  float inverse_ior;  // 1 / ior: a dielectric's eta from the front, one division per sphere
+  std::int32_t unused[2] = {};
 };
 static_assert(sizeof(SphereShading) == 64);
 
@@ -68,7 +69,7 @@ struct Wavefront {
 
   // One bounce's scratch, written and read by shade().
   alignas(64) Lanes<float> ox, oy, oz, dx, dy, dz, t;  // the ray, then the next one
-  alignas(64) Lanes<float> cx, cy, cz, radius, ex, ey, ez, ar, ag, ab, fuzz, ior;
+  alignas(64) Lanes<float> cx, cy, cz, radius, ex, ey, ez, ar, ag, ab, fuzz, ior, inverse_ior;
   alignas(64) Lanes<std::int32_t> kind, found, alive, row;
   alignas(64) Lanes<float> px, py, pz, nx, ny, nz;  // surface point and outward normal
   alignas(64) Lanes<float> onx, ony, onz;           // the normal against the incoming ray
