@@ -7,7 +7,6 @@
 
 #include "sphray/render/camera.hpp"
 
-#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -411,24 +410,13 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
     w.rays[k] = copy.ray(w.px[k], w.py[k], w.vx[k], w.vy[k]);  // the pinhole's without a lens
 }
 
-// The lanes that go through all the passes together: their scratch, some 40 arrays of them,
-// stays in the L1 cache from one pass to the next (the whole wavefront's is twice its size).
-// Every lane's result is its own, so the order of the lanes' work changes no bits; compact()
-// writes only lanes the passes are done with (a path moves only towards the front).
-constexpr std::size_t kChunk = 64;
-
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance) {
   const std::size_t live = w.live;
-  std::size_t kept = 0;
-  for (std::size_t begin = 0; begin < live; begin += kChunk) {
-    const std::size_t end = std::min(live, begin + kChunk);
-    gather(w, table, begin, end);
-    surfaces(w, sky, begin, end);
-    draw(w, begin, end);
-    scatter_all(w, begin, end);
-    kept = compact(w, radiance, begin, end, kept);
-  }
-  w.live = kept;
+  gather(w, table, 0, live);
+  surfaces(w, sky, 0, live);
+  draw(w, 0, live);
+  scatter_all(w, 0, live);
+  w.live = compact(w, radiance, 0, live, 0);
 }
 
 }  // namespace sphray::render::SPHRAY_SHADE_ISA
