@@ -175,15 +175,20 @@ class TileTracer {
     const std::size_t begin = w.live;
     const std::size_t free = kWavefront - begin;
     const std::size_t starts = std::min(paths - next.path, free - free % kGroup);
-    for (std::size_t i = begin; i < begin + starts; ++i, next.advance(tile)) {
+    const std::size_t end = begin + starts;
+    const std::int32_t max_depth = options_.max_depth;
+    const std::size_t path = next.path;
+    for (std::size_t i = begin; i < end; ++i) {  // no cursor: vectorised
+      w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
+      w.rays_left[i] = max_depth;
+      w.slot[i] = static_cast<std::uint16_t>(path + (i - begin));
+    }
+    for (std::size_t i = begin; i < end; ++i, next.advance(tile)) {
       w.key[i] = pixel_index(next.x, next.y);
       w.sample[i] = next.sample;
       w.px[i] = static_cast<float>(next.x), w.py[i] = static_cast<float>(next.y);
-      w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
-      w.rays_left[i] = options_.max_depth;
-      w.slot[i] = static_cast<std::uint16_t>(next.path);
     }
-    w.live = begin + starts;
+    w.live = end;
     if (starts > 0) passes_.start(w, begin, camera_, seed_hash_);
   }
 
