@@ -181,7 +181,7 @@ class TileTracer {
     for (std::size_t i = begin; i < end; ++i) {  // no cursor: vectorised
       w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
       w.rays_left[i] = max_depth;
-      w.slot[i] = static_cast<std::uint16_t>(path + (i - begin));
+      w.slot[i] = static_cast<std::uint32_t>(path + (i - begin));
     }
     for (std::size_t i = begin; i < end; ++i, next.advance(tile)) {
       w.key[i] = pixel_index(next.x, next.y);

@@ -64,8 +64,10 @@ struct Wavefront {
   alignas(64) Lanes<float> tr, tg, tb;  // throughput
   Lanes<std::uint64_t> counter;         // each path's PathRandom counter
   Lanes<std::int32_t> rays_left;        // the rays the path may still trace, this one included
-  Lanes<std::uint16_t> slot;            // where the path's light goes (its radiance entry)
+  Lanes<std::uint32_t> slot;            // where the path's light goes (its radiance entry)
   std::size_t live = 0;
+  // compact()'s record of each path still going (the state above but the rays), in its new lane.
+  alignas(64) std::array<std::array<float, 8>, kWavefront> moved;
 
   // One bounce's scratch, written and read by shade().
   alignas(64) Lanes<float> ox, oy, oz, dx, dy, dz, t;  // the ray, then the next one

@@ -316,16 +316,9 @@ void scatter_all(Wavefront& w, std::size_t begin, std::size_t end) {
 
 // Every path writes its light to its entry: 0 while it hits, its sky light once it misses (and
 // then ends), so the entry holds 0 + the light, the sum the entry had when misses added their
-// light to entries set to 0: the same bits, without reading the entry. A path still going moves
-// to lane kept. Returns the lanes kept after lane k.
-std::size_t move_path(Wavefront& w, Vec3* radiance, std::size_t k, std::size_t kept) {
-  const std::uint16_t s = w.slot[k];
-  radiance[s] = Vec3{0.0f + w.sr[k], 0.0f + w.sg[k], 0.0f + w.sb[k]};
-  w.tr[kept] = w.tr[k], w.tg[kept] = w.tg[k], w.tb[kept] = w.tb[k];
-  w.counter[kept] = w.counter[k];
-  w.rays_left[kept] = w.rays_left[k];
-  w.slot[kept] = s;
-  return kept + static_cast<std::size_t>(w.alive[k]);
+// light to entries set to 0: the same bits, without reading the entry.
+void hand_light(const Wavefront& w, Vec3* radiance, std::size_t k) {
+  radiance[w.slot[k]] = Vec3{0.0f + w.sr[k], 0.0f + w.sg[k], 0.0f + w.sb[k]};
 }
 
 // Lanes k to k + 8's next rays as the kernel's Rays' first 8 floats (the mask stays as the Ray
@@ -339,25 +332,78 @@ void next_rays(const Wavefront& w, std::size_t k, Floats8 (&rays)[8]) {
   transpose8(rays);
 }
 
-// Misses hand their light to their pixel; the paths still going move to the front (from lane
-// kept on), their next rays into the kernel's array. Written for every lane, kept only for the
-// live ones: no branch. Eight lanes' rays transposed at a time (a Ray built one lane at a time
-// takes some 15 instructions), the last ones one by one. Returns the lanes kept so far.
-std::size_t compact(Wavefront& w, Vec3* radiance, std::size_t begin, std::size_t end,
-                    std::size_t kept) {
-  std::size_t k = begin;
-  for (; k + 8 <= end; k += 8) {
-    Floats8 rays[8];
+// Lanes k to k + 8's state that goes with a path to its next lane, as records (the bits of the
+// throughput, rays left, entry, and the counter's low and high halves), by a transpose: row i
+// is lane k + i's record.
+void path_records(const Wavefront& w, std::size_t k, Floats8 (&v)[8]) {
+  Floats8 c0, c1;
+  load8(v[0], &w.tr[k]), load8(v[1], &w.tg[k]), load8(v[2], &w.tb[k]);
+  load8(v[3], &w.rays_left[k]), load8(v[4], &w.slot[k]);
+  load8(c0, &w.counter[k]), load8(c1, &w.counter[k + 4]);
+  v[5] = __builtin_shufflevector(c0, c1, 0, 2, 4, 6, 8, 10, 12, 14);
+  v[6] = __builtin_shufflevector(c0, c1, 1, 3, 5, 7, 9, 11, 13, 15);
+  v[7] = Floats8{};
+  transpose8(v);
+}
+
+// Lane k's record, as path_records() makes them, into moved[kept].
+void record_path(Wavefront& w, std::size_t k, std::size_t kept) {
+  std::array<float, 8>& record = w.moved[kept];
+  record[0] = w.tr[k], record[1] = w.tg[k], record[2] = w.tb[k];
+  std::memcpy(&record[3], &w.rays_left[k], sizeof(float));
+  std::memcpy(&record[4], &w.slot[k], sizeof(float));
+  std::memcpy(&record[5], &w.counter[k], 2 * sizeof(float));
+  record[7] = 0.0f;
+}
+
+// The records of lanes [0, live) back to one array per quantity, eight at a time transposed.
+void unpack_records(Wavefront& w, std::size_t live) {
+  std::size_t k = 0;
+  for (; k + 8 <= live; k += 8) {
+    Floats8 v[8];
+    for (std::size_t i = 0; i < 8; ++i)
+      load8(v[i], &w.moved[k + i]);
+    transpose8(v);
+    store8(&w.tr[k], v[0]), store8(&w.tg[k], v[1]), store8(&w.tb[k], v[2]);
+    store8(&w.rays_left[k], v[3]), store8(&w.slot[k], v[4]);
+    const Floats8 c0 = __builtin_shufflevector(v[5], v[6], 0, 8, 1, 9, 2, 10, 3, 11);
+    const Floats8 c1 = __builtin_shufflevector(v[5], v[6], 4, 12, 5, 13, 6, 14, 7, 15);
+    store8(&w.counter[k], c0), store8(&w.counter[k + 4], c1);
+  }
+  for (; k < live; ++k) {
+    const std::array<float, 8>& record = w.moved[k];
+    w.tr[k] = record[0], w.tg[k] = record[1], w.tb[k] = record[2];
+    std::memcpy(&w.rays_left[k], &record[3], sizeof(float));
+    std::memcpy(&w.slot[k], &record[4], sizeof(float));
+    std::memcpy(&w.counter[k], &record[5], 2 * sizeof(float));
+  }
+}
+
+// Misses hand their light to their pixel; the paths still going move to the front, their next
+// rays into the kernel's array. Written for every lane, kept only for the live ones: no branch.
+// Eight lanes at a time, their rays and the rest of their state transposed into records, each
+// one store (moved one float at a time, a lane took some 30 instructions), the last lanes one by
+// one. Returns the paths kept.
+std::size_t compact(Wavefront& w, Vec3* radiance, std::size_t live) {
+  std::size_t k = 0, kept = 0;
+  for (; k + 8 <= live; k += 8) {
+    Floats8 rays[8], records[8];
     next_rays(w, k, rays);
+    path_records(w, k, records);
     for (std::size_t i = 0; i < 8; ++i) {
+      hand_light(w, radiance, k + i);
       store8(&w.rays[kept], rays[i]);
-      kept = move_path(w, radiance, k + i, kept);
+      store8(&w.moved[kept], records[i]);
+      kept += static_cast<std::size_t>(w.alive[k + i]);
     }
   }
-  for (; k < end; ++k) {
+  for (; k < live; ++k) {
+    hand_light(w, radiance, k);
     w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
-    kept = move_path(w, radiance, k, kept);
+    record_path(w, k, kept);
+    kept += static_cast<std::size_t>(w.alive[k]);
   }
+  unpack_records(w, kept);
   return kept;
 }
 
@@ -416,7 +462,7 @@ void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radian
   surfaces(w, sky, 0, live);
   draw(w, 0, live);
   scatter_all(w, 0, live);
-  w.live = compact(w, radiance, 0, live, 0);
+  w.live = compact(w, radiance, live);
 }
 
 }  // namespace sphray::render::SPHRAY_SHADE_ISA
