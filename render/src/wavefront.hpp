@@ -57,7 +57,7 @@ using Lanes = std::array<T, kWavefront + 64 / sizeof(T)>;
 
 /// A tile's paths: rays and hits for the kernel's stream call, the rest one array per quantity.
 /// The live paths are packed at the front; the tracer fills the lanes behind them with new paths.
-/// 69 KiB: the tracer keeps one on its thread's stack per tile and pass.
+/// 79 KiB: the tracer keeps one on its thread's stack per tile and pass.
 struct Wavefront {
   std::array<Ray, kWavefront> rays;  // the passes write origin to tmax: the masks stay as made
   std::array<Hit, kWavefront> hits;
