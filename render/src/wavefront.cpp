@@ -55,7 +55,7 @@ bool runs_on(Isa clone, Isa active) {
 ShadingTable::ShadingTable(const Scene& scene) {
   const SphereView view = scene.spheres.view();
   const auto lambertian = static_cast<std::int32_t>(MaterialKind::lambertian);
-  rows_.resize(view.count + 1, SphereShading{0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 0, 1, lambertian, 1});
+  rows_.resize(view.count + 1, SphereShading{0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 0, 1, lambertian});
   for (std::uint32_t id = 0; id < view.count; ++id) {
     const Material m = material_of(scene, id);
     const float r = view.radius[id];
@@ -72,8 +72,7 @@ ShadingTable::ShadingTable(const Scene& scene) {
                  glass ? 1.0f : m.albedo.z,
                  m.fuzz,
                  m.ior,
-                 static_cast<std::int32_t>(m.kind),
-                 1.0f / m.ior};
+                 static_cast<std::int32_t>(m.kind)};
   }
 }
 

@@ -31,8 +31,7 @@ struct alignas(64) SphereShading {
   float ar, ag, ab;  // the attenuation: the albedo, 1 for a dielectric (as scatter() returns)
   float fuzz, ior;
   std::int32_t kind;  // MaterialKind
-  float inverse_ior;  // 1 / ior: a dielectric's eta from the front, one division per sphere
-  std::int32_t unused[2] = {};
+  std::int32_t unused[3] = {};
 };
 static_assert(sizeof(SphereShading) == 64);
 
@@ -57,7 +56,7 @@ using Lanes = std::array<T, kWavefront + 64 / sizeof(T)>;
 
 /// A tile's paths: rays and hits for the kernel's stream call, the rest one array per quantity.
 /// The live paths are packed at the front; the tracer fills the lanes behind them with new paths.
-/// 79 KiB: the tracer keeps one on its thread's stack per tile and pass.
+/// 78 KiB: the tracer keeps one on its thread's stack per tile and pass.
 struct Wavefront {
   std::array<Ray, kWavefront> rays;  // the passes write origin to tmax: the masks stay as made
   std::array<Hit, kWavefront> hits;
@@ -71,7 +70,7 @@ struct Wavefront {
 
   // One bounce's scratch, written and read by shade().
   alignas(64) Lanes<float> ox, oy, oz, dx, dy, dz, t;  // the ray, then the next one
-  alignas(64) Lanes<float> cx, cy, cz, radius, ex, ey, ez, ar, ag, ab, fuzz, ior, inverse_ior;
+  alignas(64) Lanes<float> cx, cy, cz, radius, ex, ey, ez, ar, ag, ab, fuzz, ior;
   alignas(64) Lanes<std::int32_t> kind, found, alive, row;
   alignas(64) Lanes<float> px, py, pz, nx, ny, nz;  // surface point and outward normal
   alignas(64) Lanes<float> onx, ony, onz;           // the normal against the incoming ray

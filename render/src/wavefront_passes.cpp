@@ -43,8 +43,14 @@ float away(float x, float sign) {
 }
 
 // Eight floats (or their bits), moved between layouts by shuffles of GCC's vector extensions:
-// the build's flags pick the instructions (256-bit ones where it has them, pairs of 128-bit ones
-// or scalars where not). Moves only: every copy gives the same bits.
+// the build's flags pick the instructions. Moves only: every copy gives the same bits. Only a
+// copy with 32-byte vectors transposes (render/CMakeLists.txt); GCC splits the shuffles for
+// narrower ones into slower code than the moves one lane at a time (the SSE4.2 copy's overhead
+// measured 57% one lane at a time, 120% with the transposes).
+constexpr bool kTransposes = SPHRAY_SHADE_VECTOR_BYTES >= 32;
+// The points of the disk draw() and start() draw for every lane in their vector loops: the copies
+// with 32-byte vectors draw two, the narrower ones one (their loops are slower with two).
+constexpr std::uint64_t kPointsAhead = SPHRAY_SHADE_VECTOR_BYTES >= 32 ? 2 : 1;
 using Floats8 = float __attribute__((vector_size(32)));
 static_assert(sizeof(Floats8) == 8 * sizeof(float));
 
@@ -82,10 +88,9 @@ static_assert(offsetof(Ray, origin) == 0 && offsetof(Ray, dir) == 12 && offsetof
 // Each live path's sphere: its row's fields, one array per quantity. Eight lanes at a time,
 // their rows loaded whole and transposed: a loop of one load a field costs some 30 instructions
 // a lane (GCC's tuning here emits no gather instructions). The last lanes one by one.
-void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t begin,
-                 std::size_t end) {
-  std::size_t k = begin;
-  for (; k + 8 <= end; k += 8) {
+void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t live) {
+  std::size_t k = 0;
+  for (; kTransposes && k + 8 <= live; k += 8) {
     Floats8 lo[8], hi[8];
     for (int i = 0; i < 8; ++i) {
       load8(lo[i], &rows[w.row[k + i]].cx);
@@ -98,23 +103,21 @@ void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t
     store8(&w.ex[k], lo[4]), store8(&w.ey[k], lo[5]), store8(&w.ez[k], lo[6]);
     store8(&w.ar[k], lo[7]), store8(&w.ag[k], hi[0]), store8(&w.ab[k], hi[1]);
     store8(&w.fuzz[k], hi[2]), store8(&w.ior[k], hi[3]), store8(&w.kind[k], hi[4]);
-    store8(&w.inverse_ior[k], hi[5]);
   }
-  for (; k < end; ++k) {
+  for (; k < live; ++k) {
     const SphereShading& s = rows[w.row[k]];
     w.cx[k] = s.cx, w.cy[k] = s.cy, w.cz[k] = s.cz, w.radius[k] = s.radius;
     w.ex[k] = s.ex, w.ey[k] = s.ey, w.ez[k] = s.ez;
     w.ar[k] = s.ar, w.ag[k] = s.ag, w.ab[k] = s.ab;
     w.fuzz[k] = s.fuzz, w.ior[k] = s.ior, w.kind[k] = s.kind;
-    w.inverse_ior[k] = s.inverse_ior;
   }
 }
 
 // Each live path's ray (eight at a time transposed, the last ones one by one), hit and sphere,
 // one array per quantity.
-void gather(Wavefront& w, const ShadingTable& table, std::size_t begin, std::size_t end) {
-  std::size_t k = begin;
-  for (; k + 8 <= end; k += 8) {
+void gather(Wavefront& w, const ShadingTable& table, std::size_t live) {
+  std::size_t k = 0;
+  for (; kTransposes && k + 8 <= live; k += 8) {
     Floats8 v[8];
     for (int i = 0; i < 8; ++i)
       load8(v[i], &w.rays[k + i]);
@@ -122,24 +125,24 @@ void gather(Wavefront& w, const ShadingTable& table, std::size_t begin, std::siz
     store8(&w.ox[k], v[0]), store8(&w.oy[k], v[1]), store8(&w.oz[k], v[2]);
     store8(&w.dx[k], v[3]), store8(&w.dy[k], v[4]), store8(&w.dz[k], v[5]);
   }
-  for (; k < end; ++k) {
+  for (; k < live; ++k) {
     const Ray& ray = w.rays[k];
     w.ox[k] = ray.origin.x, w.oy[k] = ray.origin.y, w.oz[k] = ray.origin.z;
     w.dx[k] = ray.dir.x, w.dy[k] = ray.dir.y, w.dz[k] = ray.dir.z;
   }
-  for (k = begin; k < end; ++k) {
+  for (k = 0; k < live; ++k) {
     w.t[k] = w.hits[k].t;
     w.found[k] = w.hits[k].found();
     w.row[k] = static_cast<std::int32_t>(table.index(w.hits[k].id));
   }
-  gather_rows(w, table.rows(), begin, end);
+  gather_rows(w, table.rows(), live);
 }
 
 // sphray::surface() for every lane, the unit incoming direction, the normal against it, and the
 // sky light of a miss.
-void surfaces(Wavefront& w, const Sky& sky, std::size_t begin, std::size_t end) {
+void surfaces(Wavefront& w, const Sky& sky, std::size_t live) {
   const Vec3 horizon = sky.horizon, zenith = sky.zenith;  // no aliasing the lanes: vectorised
-  for (std::size_t k = begin; k < end; ++k) {
+  for (std::size_t k = 0; k < live; ++k) {
     const float px = w.ox[k] + w.t[k] * w.dx[k];
     const float py = w.oy[k] + w.t[k] * w.dy[k];
     const float pz = w.oz[k] + w.t[k] * w.dz[k];
@@ -165,7 +168,8 @@ void surfaces(Wavefront& w, const Sky& sky, std::size_t begin, std::size_t end) 
     const bool front = w.dx[k] * nx + w.dy[k] * ny + w.dz[k] * nz < 0.0f;
     const float ox = front ? nx : -nx, oy = front ? ny : -ny, oz = front ? nz : -nz;
     w.onx[k] = ox, w.ony[k] = oy, w.onz[k] = oz;
-    w.eta[k] = front ? w.inverse_ior[k] : w.ior[k];
+    const float ior = w.ior[k], inverse = 1.0f / ior;
+    w.eta[k] = front ? inverse : ior;
     const float c = -w.ux[k] * ox + -w.uy[k] * oy + -w.uz[k] * oz;
     w.cosine[k] = 1.0f < c ? 1.0f : c;
     // Sky::radiance(dir), with normalize(dir).y the lane's uy.
@@ -207,15 +211,16 @@ float uniform_at(std::uint64_t counter) {
 // rest: the next tries past two rejected points, and the dielectrics. (The same draws before,
 // with one branch per material, cost more: the draws then ran one lane at a time. With one point
 // ahead rather than two, a lane in five went on one lane at a time.)
-void draw(Wavefront& w, std::size_t begin, std::size_t end) {
+void draw(Wavefront& w, std::size_t live) {
   constexpr std::uint64_t kStep = PathRandom::kStep;
-  for (std::size_t k = begin; k < end; ++k) {
+  for (std::size_t k = 0; k < live; ++k) {
     const std::uint64_t counter = w.counter[k];
     const float u1 = 2.0f * uniform_at(counter + kStep) - 1.0f;
     const float v1 = 2.0f * uniform_at(counter + 2 * kStep) - 1.0f;
     const float s1 = u1 * u1 + v1 * v1;
-    const float u2 = 2.0f * uniform_at(counter + 3 * kStep) - 1.0f;
-    const float v2 = 2.0f * uniform_at(counter + 4 * kStep) - 1.0f;
+    // With one point ahead the second is the first again: never taken.
+    const float u2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 3 * kStep) - 1.0f : u1;
+    const float v2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 4 * kStep) - 1.0f : v1;
     const float s2 = u2 * u2 + v2 * v2;
     const std::int32_t kind = w.kind[k];
     const std::int32_t fuzzed = (kind == kMetal ? 1 : 0) & (w.fuzz[k] > 0.0f ? 1 : 0);
@@ -234,7 +239,7 @@ void draw(Wavefront& w, std::size_t begin, std::size_t end) {
     w.redraw[k] = (wants & (1 - (first | second))) | (w.found[k] & (kind == kDielectric ? 1 : 0));
   }
   std::size_t count = 0;  // the lanes to redraw, listed without a branch
-  for (std::size_t k = begin; k < end; ++k) {
+  for (std::size_t k = 0; k < live; ++k) {
     w.listed[count] = static_cast<std::uint16_t>(k);
     count += static_cast<std::size_t>(w.redraw[k]);
   }
@@ -244,7 +249,7 @@ void draw(Wavefront& w, std::size_t begin, std::size_t end) {
       choose_reflection(w, k);
       continue;
     }
-    const DiskPoint p = disk_point(w.counter[k] + 4 * kStep);  // past the rejected points
+    const DiskPoint p = disk_point(w.counter[k] + 2 * kPointsAhead * kStep);  // past them
     const float scale = 2.0f * std::sqrt(1.0f - p.s);
     w.vx[k] = p.u * scale, w.vy[k] = p.v * scale, w.vz[k] = 1.0f - 2.0f * p.s;
     w.counter[k] = p.counter;
@@ -267,8 +272,8 @@ void offset_origin(Wavefront& w, std::size_t k, float dx, float dy, float dz) {
 
 // scatter()'s direction and attenuation for every lane, the three materials computed and one
 // selected, and spawn()'s origin of the next ray.
-void scatter_all(Wavefront& w, std::size_t begin, std::size_t end) {
-  for (std::size_t k = begin; k < end; ++k) {
+void scatter_all(Wavefront& w, std::size_t live) {
+  for (std::size_t k = 0; k < live; ++k) {
     const float nx = w.onx[k], ny = w.ony[k], nz = w.onz[k];
     const float ux = w.ux[k], uy = w.uy[k], uz = w.uz[k];
     const float vx = w.vx[k], vy = w.vy[k], vz = w.vz[k];
@@ -379,12 +384,28 @@ void unpack_records(Wavefront& w, std::size_t live) {
   }
 }
 
+// compact() one lane at a time, each path's state moved in place.
+std::size_t compact_lanes(Wavefront& w, Vec3* radiance, std::size_t live) {
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < live; ++k) {
+    hand_light(w, radiance, k);
+    w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
+    w.tr[kept] = w.tr[k], w.tg[kept] = w.tg[k], w.tb[kept] = w.tb[k];
+    w.counter[kept] = w.counter[k];
+    w.rays_left[kept] = w.rays_left[k];
+    w.slot[kept] = w.slot[k];
+    kept += static_cast<std::size_t>(w.alive[k]);
+  }
+  return kept;
+}
+
 // Misses hand their light to their pixel; the paths still going move to the front, their next
 // rays into the kernel's array. Written for every lane, kept only for the live ones: no branch.
 // Eight lanes at a time, their rays and the rest of their state transposed into records, each
 // one store (moved one float at a time, a lane took some 30 instructions), the last lanes one by
 // one. Returns the paths kept.
 std::size_t compact(Wavefront& w, Vec3* radiance, std::size_t live) {
+  if (!kTransposes) return compact_lanes(w, radiance, live);
   std::size_t k = 0, kept = 0;
   for (; k + 8 <= live; k += 8) {
     Floats8 rays[8], records[8];
@@ -440,15 +461,16 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
     w.py[k] = w.py[k] + uniform_at(counter + 2 * kStep);
     const float u1 = 2.0f * uniform_at(counter + 3 * kStep) - 1.0f;
     const float v1 = 2.0f * uniform_at(counter + 4 * kStep) - 1.0f;
-    const float u2 = 2.0f * uniform_at(counter + 5 * kStep) - 1.0f;
-    const float v2 = 2.0f * uniform_at(counter + 6 * kStep) - 1.0f;
+    const float u2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 5 * kStep) - 1.0f : u1;
+    const float v2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 6 * kStep) - 1.0f : v1;
     const std::int32_t first = u1 * u1 + v1 * v1 < 1.0f ? 1 : 0;
     const std::int32_t second = u2 * u2 + v2 * v2 < 1.0f ? 1 : 0;
     w.vx[k] = first ? u1 : u2, w.vy[k] = first ? v1 : v2;
     w.redraw[k] = (1 - first) & (1 - second) & uses_lens;
     // Past the second point where the first was rejected: a lane with both rejected goes on
     // from its counter in redraw_lens.
-    w.counter[k] = counter + (first | (1 - uses_lens) ? past : past + 2 * kStep);
+    w.counter[k] =
+        counter + (first | (1 - uses_lens) ? past : past + 2 * (kPointsAhead - 1) * kStep);
   }
   if (lens) redraw_lens(w, begin);
   const Camera copy = camera;  // a local: no store to the lanes can change it
@@ -458,10 +480,10 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
 
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance) {
   const std::size_t live = w.live;
-  gather(w, table, 0, live);
-  surfaces(w, sky, 0, live);
-  draw(w, 0, live);
-  scatter_all(w, 0, live);
+  gather(w, table, live);
+  surfaces(w, sky, live);
+  draw(w, live);
+  scatter_all(w, live);
   w.live = compact(w, radiance, live);
 }
 
