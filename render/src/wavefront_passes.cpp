@@ -43,14 +43,14 @@ float away(float x, float sign) {
 }
 
 // Eight floats (or their bits), moved between layouts by shuffles of GCC's vector extensions:
-// the build's flags pick the instructions. Moves only: every copy gives the same bits. Only a
-// copy with 32-byte vectors transposes (render/CMakeLists.txt); GCC splits the shuffles for
-// narrower ones into slower code than the moves one lane at a time (the SSE4.2 copy's overhead
-// measured 57% one lane at a time, 120% with the transposes).
-constexpr bool kTransposes = SPHRAY_SHADE_VECTOR_BYTES >= 32;
-// The points of the disk draw() and start() draw for every lane in their vector loops: the copies
-// with 32-byte vectors draw two, the narrower ones one (their loops are slower with two).
-constexpr std::uint64_t kPointsAhead = SPHRAY_SHADE_VECTOR_BYTES >= 32 ? 2 : 1;
+// the build's flags pick the instructions. Moves only: every copy gives the same bits. Only the
+// copies the build says transpose do (SPHRAY_SHADE_TRANSPOSES, render/CMakeLists.txt); the
+// others move one lane at a time, faster for them.
+constexpr bool kTransposes = SPHRAY_SHADE_TRANSPOSES != 0;
+// The points of the disk draw() and start() draw for every lane in their vector loops (1 or 2,
+// render/CMakeLists.txt): two where the vectors have a 64-bit lane multiply (SplitMix64's), one
+// where it is emulated and the second point costs more than the lanes that go on one at a time.
+constexpr std::uint64_t kPointsAhead = SPHRAY_SHADE_POINTS_AHEAD;
 using Floats8 = float __attribute__((vector_size(32)));
 static_assert(sizeof(Floats8) == 8 * sizeof(float));
 
