@@ -428,8 +428,8 @@ std::size_t compact(Wavefront& w, Vec3* radiance, std::size_t live) {
   return kept;
 }
 
-// The rejected lens points' next tries, one lane at a time: their draws go on past the second
-// point (the path's sixth draw).
+// The rejected lens points' next tries, one lane at a time: their draws go on past the points
+// start() drew (the path's fourth draw, or sixth with two points ahead).
 void redraw_lens(Wavefront& w, std::size_t begin) {
   std::size_t count = 0;  // listed without a branch
   for (std::size_t k = begin; k < w.live; ++k) {
@@ -453,7 +453,7 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
   const std::int32_t uses_lens = lens ? 1 : 0;
   const std::uint64_t past = lens ? 4 * kStep : 2 * kStep;  // the draws taken below
   // The path's random stream (PathRandom's constructor, its seed's mix given), the point in the
-  // pixel and the first two points of the lens disk (as in draw()).
+  // pixel and the first kPointsAhead points of the lens disk (as in draw()).
   for (std::size_t k = begin; k < live; ++k) {
     const std::uint64_t counter =
         PathRandom::mix(PathRandom::mix(seed_hash ^ w.key[k]) ^ (std::uint64_t{w.sample[k]} << 32));
@@ -467,8 +467,8 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
     const std::int32_t second = u2 * u2 + v2 * v2 < 1.0f ? 1 : 0;
     w.vx[k] = first ? u1 : u2, w.vy[k] = first ? v1 : v2;
     w.redraw[k] = (1 - first) & (1 - second) & uses_lens;
-    // Past the second point where the first was rejected: a lane with both rejected goes on
-    // from its counter in redraw_lens.
+    // Past the second point, if drawn, where the first was rejected: a lane with every point
+    // rejected goes on from its counter in redraw_lens.
     w.counter[k] =
         counter + (first | (1 - uses_lens) ? past : past + 2 * (kPointsAhead - 1) * kStep);
   }
