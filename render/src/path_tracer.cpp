@@ -85,7 +85,7 @@ static_assert(kWavefront * kSamplesPerPass <= 65536, "a path's entry must fit Wa
 // scatters. A path's light goes to its own entry (sample, pixel) and the entries are summed in
 // sample order at the end, so a pixel's sum has the same bits as one sample at a time. Paths
 // that end leave their lanes to the next samples' paths: the wavefront stays full until the
-// last paths start. Fixed-size buffers for the rays (the light's entries are allocated per call).
+// last paths start. Fixed-size buffers for the rays, and the thread's own for the light's entries.
 class TileTracer {
  public:
   TileTracer(const Scene& scene, const Camera& camera, const RayQueries& queries,
@@ -104,7 +104,11 @@ class TileTracer {
     Wavefront w;
     const std::size_t pixels = tile.pixels();
     const std::size_t paths = pixels * count;
-    std::vector<Vec3> radiance(paths, Vec3{0, 0, 0});
+    // Every path writes its entry (shade()), so the entries need no zeroing: the thread's
+    // buffer, allocated once, is taken as it is.
+    thread_local std::vector<Vec3> entries;
+    if (entries.size() < paths) entries.resize(kWavefront * kSamplesPerPass);
+    Vec3* const radiance = entries.data();
     PathCursor next{tile, first};
     std::int64_t kernel_ns = 0;
     std::uint64_t rays = 0;
@@ -121,7 +125,7 @@ class TileTracer {
           std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - kernel_start).count();
       if (recorder != nullptr) (*recorder)(round, std::span(w.rays.data(), w.live));
       rays += w.live;
-      passes_.shade(w, table_, scene_.sky, radiance.data());
+      passes_.shade(w, table_, scene_.sky, radiance);
     }
     for (std::size_t sample = 0; sample < count; ++sample) {
       for (std::size_t i = 0; i < pixels; ++i)
@@ -171,15 +175,20 @@ class TileTracer {
     const std::size_t begin = w.live;
     const std::size_t free = kWavefront - begin;
     const std::size_t starts = std::min(paths - next.path, free - free % kGroup);
-    for (std::size_t i = begin; i < begin + starts; ++i, next.advance(tile)) {
+    const std::size_t end = begin + starts;
+    const std::int32_t max_depth = options_.max_depth;
+    const std::size_t path = next.path;
+    for (std::size_t i = begin; i < end; ++i) {  // no cursor: vectorised
+      w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
+      w.rays_left[i] = max_depth;
+      w.slot[i] = static_cast<std::uint32_t>(path + (i - begin));
+    }
+    for (std::size_t i = begin; i < end; ++i, next.advance(tile)) {
       w.key[i] = pixel_index(next.x, next.y);
       w.sample[i] = next.sample;
       w.px[i] = static_cast<float>(next.x), w.py[i] = static_cast<float>(next.y);
-      w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
-      w.rays_left[i] = options_.max_depth;
-      w.slot[i] = static_cast<std::uint16_t>(next.path);
     }
-    w.live = begin + starts;
+    w.live = end;
     if (starts > 0) passes_.start(w, begin, camera_, seed_hash_);
   }
 

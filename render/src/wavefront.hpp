@@ -23,15 +23,17 @@ namespace sphray::render {
 
 inline constexpr std::size_t kWavefront = static_cast<std::size_t>(kTileSize) * kTileSize;
 
-/// What shading reads of one sphere, side by side (52 bytes): a hit's gather touches one or two
-/// cache lines rather than one per quantity.
-struct SphereShading {
+/// What shading reads of one sphere, side by side in one cache line: the gather loads a row as
+/// two vectors of 8 fields and transposes 8 rows at a time (wavefront_passes.cpp).
+struct alignas(64) SphereShading {
   float cx, cy, cz, radius;
   float ex, ey, ez;  // surface()'s error bound
   float ar, ag, ab;  // the attenuation: the albedo, 1 for a dielectric (as scatter() returns)
   float fuzz, ior;
   std::int32_t kind;  // MaterialKind
+  std::int32_t unused[3] = {};
 };
+static_assert(sizeof(SphereShading) == 64);
 
 /// SphereShading by sphere id, and one placeholder row past the spheres that misses read.
 class ShadingTable {
@@ -54,15 +56,17 @@ using Lanes = std::array<T, kWavefront + 64 / sizeof(T)>;
 
 /// A tile's paths: rays and hits for the kernel's stream call, the rest one array per quantity.
 /// The live paths are packed at the front; the tracer fills the lanes behind them with new paths.
-/// 69 KiB: the tracer keeps one on its thread's stack per tile and pass.
+/// 78 KiB: the tracer keeps one on its thread's stack per tile and pass.
 struct Wavefront {
-  std::array<Ray, kWavefront> rays;
+  std::array<Ray, kWavefront> rays;  // the passes write origin to tmax: the masks stay as made
   std::array<Hit, kWavefront> hits;
   alignas(64) Lanes<float> tr, tg, tb;  // throughput
   Lanes<std::uint64_t> counter;         // each path's PathRandom counter
   Lanes<std::int32_t> rays_left;        // the rays the path may still trace, this one included
-  Lanes<std::uint16_t> slot;            // where the path's light goes (its radiance entry)
+  Lanes<std::uint32_t> slot;            // where the path's light goes (its radiance entry)
   std::size_t live = 0;
+  // compact()'s record of each path still going (the state above but the rays), in its new lane.
+  alignas(64) std::array<std::array<float, 8>, kWavefront> moved;
 
   // One bounce's scratch, written and read by shade().
   alignas(64) Lanes<float> ox, oy, oz, dx, dy, dz, t;  // the ray, then the next one
@@ -97,10 +101,11 @@ inline DiskPoint disk_point(std::uint64_t counter) {
   return p;
 }
 
-/// Shades the hits of the wavefront's live paths: a miss adds its sky light to
-/// radiance[slot]; a hit scatters by its sphere's material and, unless absorbed or out of rays
-/// (rays_left 1), stays live with its next ray (spawned as sphray::spawn does), throughput and
-/// one ray fewer left. Packs the live paths again, in the order they were.
+/// Shades the hits of the wavefront's live paths: every path sets radiance[slot], to 0 + its
+/// sky light on a miss, to 0 on a hit (the sum of a path's light so far); a hit scatters by its
+/// sphere's material and, unless absorbed or out of rays (rays_left 1), stays live with its next
+/// ray (spawned as sphray::spawn does), throughput and one ray fewer left. Packs the live paths
+/// again, in the order they were.
 using ShadeFunction = void (*)(Wavefront& w, const ShadingTable& table, const Sky& sky,
                                Vec3* radiance);
 

@@ -9,6 +9,8 @@
 
 #include <bit>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <limits>
 
 namespace sphray::render::SPHRAY_SHADE_ISA {
@@ -40,11 +42,69 @@ float away(float x, float sign) {
   return sign == 0.0f || x != x ? x : moved;
 }
 
-// Each live path's sphere: its row's fields, one array per quantity. A loop that vectorises
-// with gathers where the instruction set has them (AVX2 on).
-void gather_rows(Wavefront& w, const SphereShading* __restrict rows) {
-  const std::size_t live = w.live;
-  for (std::size_t k = 0; k < live; ++k) {
+// Eight floats (or their bits), moved between layouts by shuffles of GCC's vector extensions:
+// the build's flags pick the instructions. Moves only: every copy gives the same bits. Only the
+// copies the build says transpose do (SPHRAY_SHADE_TRANSPOSES, render/CMakeLists.txt); the
+// others move one lane at a time, faster for them.
+constexpr bool kTransposes = SPHRAY_SHADE_TRANSPOSES != 0;
+// The points of the disk draw() and start() draw for every lane in their vector loops (1 or 2,
+// render/CMakeLists.txt): two where the vectors have a 64-bit lane multiply (SplitMix64's), one
+// where it is emulated and the second point costs more than the lanes that go on one at a time.
+constexpr std::uint64_t kPointsAhead = SPHRAY_SHADE_POINTS_AHEAD;
+using Floats8 = float __attribute__((vector_size(32)));
+static_assert(sizeof(Floats8) == 8 * sizeof(float));
+
+// Vectors by reference only: passing one by value would depend on the instruction set's ABI.
+void load8(Floats8& v, const void* from) {
+  std::memcpy(&v, from, sizeof v);
+}
+void store8(void* to, const Floats8& v) {
+  std::memcpy(to, &v, sizeof v);
+}
+
+// Eight vectors transposed in place: v[i][j] becomes v[j][i]. Inline, or the vectors go through
+// memory.
+[[gnu::always_inline]] inline void transpose8(Floats8 (&v)[8]) {
+  Floats8 t[8], s[8];
+  for (int i = 0; i < 8; i += 2) {  // pairs of rows interleaved
+    t[i] = __builtin_shufflevector(v[i], v[i + 1], 0, 8, 1, 9, 4, 12, 5, 13);
+    t[i + 1] = __builtin_shufflevector(v[i], v[i + 1], 2, 10, 3, 11, 6, 14, 7, 15);
+  }
+  for (int i = 0; i < 8; i += 4) {  // then pairs of those pairs
+    s[i] = __builtin_shufflevector(t[i], t[i + 2], 0, 1, 8, 9, 4, 5, 12, 13);
+    s[i + 1] = __builtin_shufflevector(t[i], t[i + 2], 2, 3, 10, 11, 6, 7, 14, 15);
+    s[i + 2] = __builtin_shufflevector(t[i + 1], t[i + 3], 0, 1, 8, 9, 4, 5, 12, 13);
+    s[i + 3] = __builtin_shufflevector(t[i + 1], t[i + 3], 2, 3, 10, 11, 6, 7, 14, 15);
+  }
+  for (int i = 0; i < 4; ++i) {  // then the halves of four rows
+    v[i] = __builtin_shufflevector(s[i], s[i + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+    v[i + 4] = __builtin_shufflevector(s[i], s[i + 4], 4, 5, 6, 7, 12, 13, 14, 15);
+  }
+}
+
+// A Ray's first eight floats: origin, direction, tmin and tmax.
+static_assert(offsetof(Ray, origin) == 0 && offsetof(Ray, dir) == 12 && offsetof(Ray, tmax) == 28);
+
+// Each live path's sphere: its row's fields, one array per quantity. Eight lanes at a time,
+// their rows loaded whole and transposed: a loop of one load a field costs some 30 instructions
+// a lane (GCC's tuning here emits no gather instructions). The last lanes one by one.
+void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t live) {
+  std::size_t k = 0;
+  for (; kTransposes && k + 8 <= live; k += 8) {
+    Floats8 lo[8], hi[8];
+    for (int i = 0; i < 8; ++i) {
+      load8(lo[i], &rows[w.row[k + i]].cx);
+      load8(hi[i], &rows[w.row[k + i]].ag);
+    }
+    transpose8(lo);
+    transpose8(hi);
+    store8(&w.cx[k], lo[0]), store8(&w.cy[k], lo[1]), store8(&w.cz[k], lo[2]);
+    store8(&w.radius[k], lo[3]);
+    store8(&w.ex[k], lo[4]), store8(&w.ey[k], lo[5]), store8(&w.ez[k], lo[6]);
+    store8(&w.ar[k], lo[7]), store8(&w.ag[k], hi[0]), store8(&w.ab[k], hi[1]);
+    store8(&w.fuzz[k], hi[2]), store8(&w.ior[k], hi[3]), store8(&w.kind[k], hi[4]);
+  }
+  for (; k < live; ++k) {
     const SphereShading& s = rows[w.row[k]];
     w.cx[k] = s.cx, w.cy[k] = s.cy, w.cz[k] = s.cz, w.radius[k] = s.radius;
     w.ex[k] = s.ex, w.ey[k] = s.ey, w.ez[k] = s.ez;
@@ -53,25 +113,36 @@ void gather_rows(Wavefront& w, const SphereShading* __restrict rows) {
   }
 }
 
-// Each live path's ray, hit and sphere, one array per quantity.
-void gather(Wavefront& w, const ShadingTable& table) {
-  const std::size_t live = w.live;
-  for (std::size_t k = 0; k < live; ++k) {
+// Each live path's ray (eight at a time transposed, the last ones one by one), hit and sphere,
+// one array per quantity.
+void gather(Wavefront& w, const ShadingTable& table, std::size_t live) {
+  std::size_t k = 0;
+  for (; kTransposes && k + 8 <= live; k += 8) {
+    Floats8 v[8];
+    for (int i = 0; i < 8; ++i)
+      load8(v[i], &w.rays[k + i]);
+    transpose8(v);
+    store8(&w.ox[k], v[0]), store8(&w.oy[k], v[1]), store8(&w.oz[k], v[2]);
+    store8(&w.dx[k], v[3]), store8(&w.dy[k], v[4]), store8(&w.dz[k], v[5]);
+  }
+  for (; k < live; ++k) {
     const Ray& ray = w.rays[k];
     w.ox[k] = ray.origin.x, w.oy[k] = ray.origin.y, w.oz[k] = ray.origin.z;
     w.dx[k] = ray.dir.x, w.dy[k] = ray.dir.y, w.dz[k] = ray.dir.z;
+  }
+  for (k = 0; k < live; ++k) {
     w.t[k] = w.hits[k].t;
     w.found[k] = w.hits[k].found();
     w.row[k] = static_cast<std::int32_t>(table.index(w.hits[k].id));
   }
-  gather_rows(w, table.rows());
+  gather_rows(w, table.rows(), live);
 }
 
 // sphray::surface() for every lane, the unit incoming direction, the normal against it, and the
 // sky light of a miss.
-void surfaces(Wavefront& w, const Sky& sky) {
+void surfaces(Wavefront& w, const Sky& sky, std::size_t live) {
   const Vec3 horizon = sky.horizon, zenith = sky.zenith;  // no aliasing the lanes: vectorised
-  for (std::size_t k = 0; k < w.live; ++k) {
+  for (std::size_t k = 0; k < live; ++k) {
     const float px = w.ox[k] + w.t[k] * w.dx[k];
     const float py = w.oy[k] + w.t[k] * w.dy[k];
     const float pz = w.oz[k] + w.t[k] * w.dz[k];
@@ -134,34 +205,41 @@ float uniform_at(std::uint64_t counter) {
 }
 
 // Each path's draws, in the order scatter() makes them: a Lambertian and a fuzzed metal draw a
-// unit vector, a dielectric that may refract a uniform. First every lane's first point of the
-// disk, in one loop that vectorises (kept where a unit vector was wanted and the point lies
-// inside, pi/4 of them); then, one lane at a time, the rest: the rejected points' next tries and
-// the dielectrics. (The same draws before, with one branch per material, cost more: the draws
-// then ran one lane at a time.)
-void draw(Wavefront& w) {
+// unit vector, a dielectric that may refract a uniform. First every lane's first two points of
+// the disk, in one loop that vectorises (the first inside kept where a unit vector was wanted:
+// one of them is for 95% of the lanes, the first alone for pi/4); then, one lane at a time, the
+// rest: the next tries past two rejected points, and the dielectrics. (The same draws before,
+// with one branch per material, cost more: the draws then ran one lane at a time. With one point
+// ahead rather than two, a lane in five went on one lane at a time.)
+void draw(Wavefront& w, std::size_t live) {
   constexpr std::uint64_t kStep = PathRandom::kStep;
-  const std::size_t live = w.live;  // a copy: the counters' stores could alias it, as integers
   for (std::size_t k = 0; k < live; ++k) {
     const std::uint64_t counter = w.counter[k];
-    const float u = 2.0f * uniform_at(counter + kStep) - 1.0f;
-    const float v = 2.0f * uniform_at(counter + 2 * kStep) - 1.0f;
-    const float s = u * u + v * v;
+    const float u1 = 2.0f * uniform_at(counter + kStep) - 1.0f;
+    const float v1 = 2.0f * uniform_at(counter + 2 * kStep) - 1.0f;
+    const float s1 = u1 * u1 + v1 * v1;
+    // With one point ahead the second is the first again: never taken.
+    const float u2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 3 * kStep) - 1.0f : u1;
+    const float v2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 4 * kStep) - 1.0f : v1;
+    const float s2 = u2 * u2 + v2 * v2;
     const std::int32_t kind = w.kind[k];
     const std::int32_t fuzzed = (kind == kMetal ? 1 : 0) & (w.fuzz[k] > 0.0f ? 1 : 0);
     const std::int32_t wants = w.found[k] & ((kind == kLambertian ? 1 : 0) | fuzzed);
-    const std::int32_t inside = s < 1.0f ? 1 : 0;
-    const std::int32_t drawn = wants & inside;
+    const std::int32_t first = s1 < 1.0f ? 1 : 0;
+    const std::int32_t second = (1 - first) & (s2 < 1.0f ? 1 : 0);
+    const std::int32_t drawn = wants & (first | second);
+    const float u = first ? u1 : u2, v = first ? v1 : v2, s = first ? s1 : s2;
     const float scale = 2.0f * std::sqrt(1.0f - s);
     w.vx[k] = drawn ? u * scale : 0.0f;
     w.vy[k] = drawn ? v * scale : 0.0f;
     w.vz[k] = drawn ? 1.0f - 2.0f * s : 0.0f;
-    w.counter[k] = drawn ? counter + 2 * kStep : counter;
+    const std::uint64_t past = first ? counter + 2 * kStep : counter + 4 * kStep;
+    w.counter[k] = drawn ? past : counter;
     w.reflects[k] = 0;
-    w.redraw[k] = (wants & (1 - inside)) | (w.found[k] & (kind == kDielectric ? 1 : 0));
+    w.redraw[k] = (wants & (1 - (first | second))) | (w.found[k] & (kind == kDielectric ? 1 : 0));
   }
   std::size_t count = 0;  // the lanes to redraw, listed without a branch
-  for (std::size_t k = 0; k < w.live; ++k) {
+  for (std::size_t k = 0; k < live; ++k) {
     w.listed[count] = static_cast<std::uint16_t>(k);
     count += static_cast<std::size_t>(w.redraw[k]);
   }
@@ -171,7 +249,7 @@ void draw(Wavefront& w) {
       choose_reflection(w, k);
       continue;
     }
-    const DiskPoint p = disk_point(w.counter[k] + 2 * kStep);  // past the rejected point
+    const DiskPoint p = disk_point(w.counter[k] + 2 * kPointsAhead * kStep);  // past them
     const float scale = 2.0f * std::sqrt(1.0f - p.s);
     w.vx[k] = p.u * scale, w.vy[k] = p.v * scale, w.vz[k] = 1.0f - 2.0f * p.s;
     w.counter[k] = p.counter;
@@ -194,8 +272,8 @@ void offset_origin(Wavefront& w, std::size_t k, float dx, float dy, float dz) {
 
 // scatter()'s direction and attenuation for every lane, the three materials computed and one
 // selected, and spawn()'s origin of the next ray.
-void scatter_all(Wavefront& w) {
-  for (std::size_t k = 0; k < w.live; ++k) {
+void scatter_all(Wavefront& w, std::size_t live) {
+  for (std::size_t k = 0; k < live; ++k) {
     const float nx = w.onx[k], ny = w.ony[k], nz = w.onz[k];
     const float ux = w.ux[k], uy = w.uy[k], uz = w.uz[k];
     const float vx = w.vx[k], vy = w.vy[k], vz = w.vz[k];
@@ -241,25 +319,117 @@ void scatter_all(Wavefront& w) {
   }
 }
 
-// Misses hand their light to their pixel; the paths still going move to the front, their next
-// rays into the kernel's array. Written for every lane, kept only for the live ones: no branch.
-void compact(Wavefront& w, Vec3* radiance) {
+// Every path writes its light to its entry: 0 while it hits, its sky light once it misses (and
+// then ends), so the entry holds 0 + the light, the sum the entry had when misses added their
+// light to entries set to 0: the same bits, without reading the entry.
+void hand_light(const Wavefront& w, Vec3* radiance, std::size_t k) {
+  radiance[w.slot[k]] = Vec3{0.0f + w.sr[k], 0.0f + w.sg[k], 0.0f + w.sb[k]};
+}
+
+// Lanes k to k + 8's next rays as the kernel's Rays' first 8 floats (the mask stays as the Ray
+// was made), by a transpose: row i is lane k + i's ray.
+void next_rays(const Wavefront& w, std::size_t k, Floats8 (&rays)[8]) {
+  load8(rays[0], &w.ox[k]), load8(rays[1], &w.oy[k]), load8(rays[2], &w.oz[k]);
+  load8(rays[3], &w.dx[k]), load8(rays[4], &w.dy[k]), load8(rays[5], &w.dz[k]);
+  const Ray unbounded{};  // tmin and tmax as every Ray has them
+  rays[6] = Floats8{} + unbounded.tmin;
+  rays[7] = Floats8{} + unbounded.tmax;
+  transpose8(rays);
+}
+
+// Lanes k to k + 8's state that goes with a path to its next lane, as records (the bits of the
+// throughput, rays left, entry, and the counter's low and high halves), by a transpose: row i
+// is lane k + i's record.
+void path_records(const Wavefront& w, std::size_t k, Floats8 (&v)[8]) {
+  Floats8 c0, c1;
+  load8(v[0], &w.tr[k]), load8(v[1], &w.tg[k]), load8(v[2], &w.tb[k]);
+  load8(v[3], &w.rays_left[k]), load8(v[4], &w.slot[k]);
+  load8(c0, &w.counter[k]), load8(c1, &w.counter[k + 4]);
+  v[5] = __builtin_shufflevector(c0, c1, 0, 2, 4, 6, 8, 10, 12, 14);
+  v[6] = __builtin_shufflevector(c0, c1, 1, 3, 5, 7, 9, 11, 13, 15);
+  v[7] = Floats8{};
+  transpose8(v);
+}
+
+// Lane k's record, as path_records() makes them, into moved[kept].
+void record_path(Wavefront& w, std::size_t k, std::size_t kept) {
+  std::array<float, 8>& record = w.moved[kept];
+  record[0] = w.tr[k], record[1] = w.tg[k], record[2] = w.tb[k];
+  std::memcpy(&record[3], &w.rays_left[k], sizeof(float));
+  std::memcpy(&record[4], &w.slot[k], sizeof(float));
+  std::memcpy(&record[5], &w.counter[k], 2 * sizeof(float));
+  record[7] = 0.0f;
+}
+
+// The records of lanes [0, live) back to one array per quantity, eight at a time transposed.
+void unpack_records(Wavefront& w, std::size_t live) {
+  std::size_t k = 0;
+  for (; k + 8 <= live; k += 8) {
+    Floats8 v[8];
+    for (std::size_t i = 0; i < 8; ++i)
+      load8(v[i], &w.moved[k + i]);
+    transpose8(v);
+    store8(&w.tr[k], v[0]), store8(&w.tg[k], v[1]), store8(&w.tb[k], v[2]);
+    store8(&w.rays_left[k], v[3]), store8(&w.slot[k], v[4]);
+    const Floats8 c0 = __builtin_shufflevector(v[5], v[6], 0, 8, 1, 9, 2, 10, 3, 11);
+    const Floats8 c1 = __builtin_shufflevector(v[5], v[6], 4, 12, 5, 13, 6, 14, 7, 15);
+    store8(&w.counter[k], c0), store8(&w.counter[k + 4], c1);
+  }
+  for (; k < live; ++k) {
+    const std::array<float, 8>& record = w.moved[k];
+    w.tr[k] = record[0], w.tg[k] = record[1], w.tb[k] = record[2];
+    std::memcpy(&w.rays_left[k], &record[3], sizeof(float));
+    std::memcpy(&w.slot[k], &record[4], sizeof(float));
+    std::memcpy(&w.counter[k], &record[5], 2 * sizeof(float));
+  }
+}
+
+// compact() one lane at a time, each path's state moved in place.
+std::size_t compact_lanes(Wavefront& w, Vec3* radiance, std::size_t live) {
   std::size_t kept = 0;
-  for (std::size_t k = 0; k < w.live; ++k) {
-    const std::uint16_t s = w.slot[k];
-    radiance[s] += Vec3{w.sr[k], w.sg[k], w.sb[k]};
+  for (std::size_t k = 0; k < live; ++k) {
+    hand_light(w, radiance, k);
     w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
     w.tr[kept] = w.tr[k], w.tg[kept] = w.tg[k], w.tb[kept] = w.tb[k];
     w.counter[kept] = w.counter[k];
     w.rays_left[kept] = w.rays_left[k];
-    w.slot[kept] = s;
+    w.slot[kept] = w.slot[k];
     kept += static_cast<std::size_t>(w.alive[k]);
   }
-  w.live = kept;
+  return kept;
 }
 
-// The rejected lens points' next tries, one lane at a time: their draws go on past the first
-// point (the path's fourth draw).
+// Misses hand their light to their pixel; the paths still going move to the front, their next
+// rays into the kernel's array. Written for every lane, kept only for the live ones: no branch.
+// Eight lanes at a time, their rays and the rest of their state transposed into records, each
+// one store (moved one float at a time, a lane took some 30 instructions), the last lanes one by
+// one. Returns the paths kept.
+std::size_t compact(Wavefront& w, Vec3* radiance, std::size_t live) {
+  if (!kTransposes) return compact_lanes(w, radiance, live);
+  std::size_t k = 0, kept = 0;
+  for (; k + 8 <= live; k += 8) {
+    Floats8 rays[8], records[8];
+    next_rays(w, k, rays);
+    path_records(w, k, records);
+    for (std::size_t i = 0; i < 8; ++i) {
+      hand_light(w, radiance, k + i);
+      store8(&w.rays[kept], rays[i]);
+      store8(&w.moved[kept], records[i]);
+      kept += static_cast<std::size_t>(w.alive[k + i]);
+    }
+  }
+  for (; k < live; ++k) {
+    hand_light(w, radiance, k);
+    w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
+    record_path(w, k, kept);
+    kept += static_cast<std::size_t>(w.alive[k]);
+  }
+  unpack_records(w, kept);
+  return kept;
+}
+
+// The rejected lens points' next tries, one lane at a time: their draws go on past the points
+// start() drew (the path's fourth draw, or sixth with two points ahead).
 void redraw_lens(Wavefront& w, std::size_t begin) {
   std::size_t count = 0;  // listed without a branch
   for (std::size_t k = begin; k < w.live; ++k) {
@@ -283,19 +453,24 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
   const std::int32_t uses_lens = lens ? 1 : 0;
   const std::uint64_t past = lens ? 4 * kStep : 2 * kStep;  // the draws taken below
   // The path's random stream (PathRandom's constructor, its seed's mix given), the point in the
-  // pixel and the first point of the lens disk.
+  // pixel and the first kPointsAhead points of the lens disk (as in draw()).
   for (std::size_t k = begin; k < live; ++k) {
     const std::uint64_t counter =
         PathRandom::mix(PathRandom::mix(seed_hash ^ w.key[k]) ^ (std::uint64_t{w.sample[k]} << 32));
     w.px[k] = w.px[k] + uniform_at(counter + kStep);
     w.py[k] = w.py[k] + uniform_at(counter + 2 * kStep);
-    const float u = 2.0f * uniform_at(counter + 3 * kStep) - 1.0f;
-    const float v = 2.0f * uniform_at(counter + 4 * kStep) - 1.0f;
-    const std::int32_t inside = u * u + v * v < 1.0f ? 1 : 0;
-    w.vx[k] = u, w.vy[k] = v;
-    w.redraw[k] = (1 - inside) & uses_lens;
-    // A rejected point's lane goes on from its counter in redraw_lens.
-    w.counter[k] = counter + past;
+    const float u1 = 2.0f * uniform_at(counter + 3 * kStep) - 1.0f;
+    const float v1 = 2.0f * uniform_at(counter + 4 * kStep) - 1.0f;
+    const float u2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 5 * kStep) - 1.0f : u1;
+    const float v2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 6 * kStep) - 1.0f : v1;
+    const std::int32_t first = u1 * u1 + v1 * v1 < 1.0f ? 1 : 0;
+    const std::int32_t second = u2 * u2 + v2 * v2 < 1.0f ? 1 : 0;
+    w.vx[k] = first ? u1 : u2, w.vy[k] = first ? v1 : v2;
+    w.redraw[k] = (1 - first) & (1 - second) & uses_lens;
+    // Past the second point, if drawn, where the first was rejected: a lane with every point
+    // rejected goes on from its counter in redraw_lens.
+    w.counter[k] =
+        counter + (first | (1 - uses_lens) ? past : past + 2 * (kPointsAhead - 1) * kStep);
   }
   if (lens) redraw_lens(w, begin);
   const Camera copy = camera;  // a local: no store to the lanes can change it
@@ -304,11 +479,12 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
 }
 
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance) {
-  gather(w, table);
-  surfaces(w, sky);
-  draw(w);
-  scatter_all(w);
-  compact(w, radiance);
+  const std::size_t live = w.live;
+  gather(w, table, live);
+  surfaces(w, sky, live);
+  draw(w, live);
+  scatter_all(w, live);
+  w.live = compact(w, radiance, live);
 }
 
 }  // namespace sphray::render::SPHRAY_SHADE_ISA
