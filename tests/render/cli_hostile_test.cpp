@@ -168,9 +168,11 @@ mode_t mode_of(const fs::path& path) {
 class Hostile : public ::testing::Test {
  protected:
   void SetUp() override {
+    // The process id too: two build trees' tests may run at once and share /tmp.
     dir_ = fs::temp_directory_path() /
            ("sphray-hostile-" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "-" +
+            std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
