@@ -935,7 +935,8 @@ KEPT_HEADINGS = ["## Packets for coherent rays (issue 19)",
                  "## Shadow rays: line packets (issue 19, second round)",
                  "## Shadow rays: packet leaves (issue 19, third round)", "## Small trees",
                  "## `sphray bench` on rtiow-final",
-                 "## Small scenes against Embree: the targets still missed"]
+                 "## Small scenes against Embree: the targets still missed",
+                 "## Rays as arrays per quantity, and this run's spread"]
 
 
 def kept_sections(page_path):
