@@ -7,8 +7,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "scene_queries.hpp"
 #include "sphray/render/camera.hpp"
@@ -101,7 +103,12 @@ class TileTracer {
   void trace(const Tile& tile, std::uint32_t first, std::uint32_t count, Vec3* sums,
              Counters& counters, const Recorder* recorder) const {
     const auto tile_start = Clock::now();
-    Wavefront w;
+    // The thread's wavefront, zeroed when made: the passes also run over the lanes just past the
+    // live ones (wavefront_passes.cpp), which so always hold defined values. (Nothing a tile
+    // calls runs another tile's task on this thread: the kernel's queries start no tasks.)
+    thread_local const std::unique_ptr<Wavefront> wavefront = std::make_unique<Wavefront>();
+    Wavefront& w = *wavefront;
+    w.live = 0;
     const std::size_t pixels = tile.pixels();
     const std::size_t paths = pixels * count;
     // Every path writes its entry (shade()), so the entries need no zeroing: the thread's
@@ -109,12 +116,12 @@ class TileTracer {
     thread_local std::vector<Vec3> entries;
     if (entries.size() < paths) entries.resize(kWavefront * kSamplesPerPass);
     Vec3* const radiance = entries.data();
-    PathCursor next{tile, first};
+    std::size_t next = 0;  // the next path to start
     std::int64_t kernel_ns = 0;
     std::uint64_t rays = 0;
     for (int round = 0;; ++round) {
       const std::size_t bouncing = w.live;
-      start_paths(tile, paths, next, w);
+      start_paths(tile, first, paths, next, w);
       if (w.live == 0) break;
       const auto kernel_start = Clock::now();
       // The new paths' camera rays in a call of their own: the kernel looks for coherent groups
@@ -139,57 +146,61 @@ class TileTracer {
   }
 
  private:
-  // The next path to start: its entry (sample first + s, pixel i of the tile: s * pixels + i),
-  // and its pixel's coordinates, advanced pixel by pixel in row order, then sample by sample.
-  struct PathCursor {
-    PathCursor(const Tile& tile, std::uint32_t first)
-        : path(0), pixel(0), sample(first), x(tile.x0), y(tile.y0) {}
-    void advance(const Tile& tile) {
-      ++path, ++pixel, ++x;
-      if (x < tile.x0 + tile.width) return;
-      x = tile.x0, ++y;
-      if (pixel < tile.pixels()) return;
-      pixel = 0, y = tile.y0, ++sample;
-    }
-    std::size_t path, pixel;
-    std::uint32_t sample;
-    int x, y;
-  };
-
   void intersect(Wavefront& w, std::size_t begin, std::size_t end) const {
     if (begin == end) return;
     queries_.intersect(std::span(w.rays.data() + begin, end - begin),
                        std::span(w.hits.data() + begin, end - begin));
   }
 
-  std::uint64_t pixel_index(int x, int y) const {
-    return static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(options_.width) +
-           static_cast<std::uint64_t>(x);
-  }
-
-  // Starts paths from next on in the lanes behind the live paths, in whole groups of 32 lanes
-  // (the kernel's coherent group) while more than that are left to start. Here each lane's
-  // pixel, sample and entry; the passes' start() draws the camera rays, all lanes together.
-  void start_paths(const Tile& tile, std::size_t paths, PathCursor& next, Wavefront& w) const {
+  // Starts paths next, next + 1, ... in the lanes behind the live paths, in whole groups of 32
+  // lanes (the kernel's coherent group) while more than that are left to start. Here each lane's
+  // entry, pixel and sample; the passes' start() draws the camera rays, all lanes together.
+  void start_paths(const Tile& tile, std::uint32_t first, std::size_t paths, std::size_t& next,
+                   Wavefront& w) const {
     constexpr std::size_t kGroup = 32;
     const std::size_t begin = w.live;
     const std::size_t free = kWavefront - begin;
-    const std::size_t starts = std::min(paths - next.path, free - free % kGroup);
+    const std::size_t starts = std::min(paths - next, free - free % kGroup);
     const std::size_t end = begin + starts;
     const std::int32_t max_depth = options_.max_depth;
-    const std::size_t path = next.path;
-    for (std::size_t i = begin; i < end; ++i) {  // no cursor: vectorised
+    for (std::size_t i = begin; i < end; ++i) {
       w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
       w.rays_left[i] = max_depth;
-      w.slot[i] = static_cast<std::uint32_t>(path + (i - begin));
+      w.slot[i] = static_cast<std::uint32_t>(next + (i - begin));
     }
-    for (std::size_t i = begin; i < end; ++i, next.advance(tile)) {
-      w.key[i] = pixel_index(next.x, next.y);
-      w.sample[i] = next.sample;
-      w.px[i] = static_cast<float>(next.x), w.py[i] = static_cast<float>(next.y);
+    if (tile.width == kTileSize && tile.height == kTileSize) {  // sides known: shifts and masks
+      constexpr std::integral_constant<std::size_t, kTileSize> side;
+      place(tile, side, side, first, next, begin, end, w);
+    } else {
+      place(tile, static_cast<std::size_t>(tile.width), static_cast<std::size_t>(tile.height),
+            first, next, begin, end, w);
     }
+    next += starts;
     w.live = end;
     if (starts > 0) passes_.start(w, begin, camera_, seed_hash_);
+  }
+
+  // The pixels and samples of the paths path, path + 1, ... in lanes [begin, end): path p is
+  // sample first + p / pixels of the tile's pixel p % pixels, in row order (its entry is p).
+  // Without a cursor carried from lane to lane, in 32-bit integers (an image has at most 2^28
+  // pixels, a tile's pass 2^16 paths): the loop vectorises.
+  template <class Side>
+  void place(const Tile& tile, Side width, Side height, std::uint32_t first, std::size_t path,
+             std::size_t begin, std::size_t end, Wavefront& w) const {
+    static_assert(std::uint64_t{kMaxImageSide} * kMaxImageSide <= 0xffffffffu);
+    const std::uint32_t pixels = static_cast<std::uint32_t>(width * height);
+    const auto image_width = static_cast<std::uint32_t>(options_.width);
+    const auto x0 = static_cast<std::uint32_t>(tile.x0), y0 = static_cast<std::uint32_t>(tile.y0);
+    const auto path0 = static_cast<std::uint32_t>(path - begin);
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::uint32_t p = path0 + static_cast<std::uint32_t>(i), pixel = p % pixels;
+      const std::uint32_t x = x0 + pixel % static_cast<std::uint32_t>(width);
+      const std::uint32_t y = y0 + pixel / static_cast<std::uint32_t>(width);
+      w.key[i] = y * image_width + x;  // the pixel's index in the image
+      w.sample[i] = first + p / pixels;
+      w.px[i] = static_cast<float>(static_cast<std::int32_t>(x));
+      w.py[i] = static_cast<float>(static_cast<std::int32_t>(y));
+    }
   }
 
   const Scene& scene_;

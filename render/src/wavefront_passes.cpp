@@ -42,6 +42,17 @@ float away(float x, float sign) {
   return sign == 0.0f || x != x ? x : moved;
 }
 
+// The lanes a float pass runs over: the live ones and those up to the next multiple of 16, the
+// widest copy's vector, so that no pass ends in a tail of lanes one at a time (GCC's epilogue),
+// which cost the AVX-512 copy a tenth of its time. The lanes past the live ones hold values of
+// earlier rounds (the tracer's wavefront is zeroed once, when made); what they compute is never
+// read. Passes that write outside the lanes (light, draws one lane at a time) stop at live.
+constexpr std::size_t kLaneBlock = 16;
+static_assert(kWavefront % kLaneBlock == 0);
+std::size_t padded(std::size_t live) {
+  return (live + kLaneBlock - 1) / kLaneBlock * kLaneBlock;
+}
+
 // Eight floats (or their bits), moved between layouts by shuffles of GCC's vector extensions:
 // the build's flags pick the instructions. Moves only: every copy gives the same bits. Only the
 // copies the build says transpose do (SPHRAY_SHADE_TRANSPOSES, render/CMakeLists.txt); the
@@ -88,9 +99,9 @@ static_assert(offsetof(Ray, origin) == 0 && offsetof(Ray, dir) == 12 && offsetof
 // Each live path's sphere: its row's fields, one array per quantity. Eight lanes at a time,
 // their rows loaded whole and transposed: a loop of one load a field costs some 30 instructions
 // a lane (GCC's tuning here emits no gather instructions). The last lanes one by one.
-void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t live) {
+void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t lanes) {
   std::size_t k = 0;
-  for (; kTransposes && k + 8 <= live; k += 8) {
+  for (; kTransposes && k + 8 <= lanes; k += 8) {
     Floats8 lo[8], hi[8];
     for (int i = 0; i < 8; ++i) {
       load8(lo[i], &rows[w.row[k + i]].cx);
@@ -104,7 +115,7 @@ void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t
     store8(&w.ar[k], lo[7]), store8(&w.ag[k], hi[0]), store8(&w.ab[k], hi[1]);
     store8(&w.fuzz[k], hi[2]), store8(&w.ior[k], hi[3]), store8(&w.kind[k], hi[4]);
   }
-  for (; k < live; ++k) {
+  for (; k < lanes; ++k) {
     const SphereShading& s = rows[w.row[k]];
     w.cx[k] = s.cx, w.cy[k] = s.cy, w.cz[k] = s.cz, w.radius[k] = s.radius;
     w.ex[k] = s.ex, w.ey[k] = s.ey, w.ez[k] = s.ez;
@@ -115,9 +126,9 @@ void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t
 
 // Each live path's ray (eight at a time transposed, the last ones one by one), hit and sphere,
 // one array per quantity.
-void gather(Wavefront& w, const ShadingTable& table, std::size_t live) {
+void gather(Wavefront& w, const ShadingTable& table, std::size_t lanes) {
   std::size_t k = 0;
-  for (; kTransposes && k + 8 <= live; k += 8) {
+  for (; kTransposes && k + 8 <= lanes; k += 8) {
     Floats8 v[8];
     for (int i = 0; i < 8; ++i)
       load8(v[i], &w.rays[k + i]);
@@ -125,24 +136,24 @@ void gather(Wavefront& w, const ShadingTable& table, std::size_t live) {
     store8(&w.ox[k], v[0]), store8(&w.oy[k], v[1]), store8(&w.oz[k], v[2]);
     store8(&w.dx[k], v[3]), store8(&w.dy[k], v[4]), store8(&w.dz[k], v[5]);
   }
-  for (; k < live; ++k) {
+  for (; k < lanes; ++k) {
     const Ray& ray = w.rays[k];
     w.ox[k] = ray.origin.x, w.oy[k] = ray.origin.y, w.oz[k] = ray.origin.z;
     w.dx[k] = ray.dir.x, w.dy[k] = ray.dir.y, w.dz[k] = ray.dir.z;
   }
-  for (k = 0; k < live; ++k) {
+  for (k = 0; k < lanes; ++k) {
     w.t[k] = w.hits[k].t;
     w.found[k] = w.hits[k].found();
     w.row[k] = static_cast<std::int32_t>(table.index(w.hits[k].id));
   }
-  gather_rows(w, table.rows(), live);
+  gather_rows(w, table.rows(), lanes);
 }
 
 // sphray::surface() for every lane, the unit incoming direction, the normal against it, and the
 // sky light of a miss.
-void surfaces(Wavefront& w, const Sky& sky, std::size_t live) {
+void surfaces(Wavefront& w, const Sky& sky, std::size_t lanes) {
   const Vec3 horizon = sky.horizon, zenith = sky.zenith;  // no aliasing the lanes: vectorised
-  for (std::size_t k = 0; k < live; ++k) {
+  for (std::size_t k = 0; k < lanes; ++k) {
     const float px = w.ox[k] + w.t[k] * w.dx[k];
     const float py = w.oy[k] + w.t[k] * w.dy[k];
     const float pz = w.oz[k] + w.t[k] * w.dz[k];
@@ -184,6 +195,26 @@ void surfaces(Wavefront& w, const Sky& sky, std::size_t live) {
   }
 }
 
+// Lists in w.listed the lanes of [begin, end) whose redraw flag is set, in order, and returns
+// how many: the flags of 64 lanes as the bits of a word (a loop that vectorises), then the word's
+// set bits. (A loop adding each flag to the count after storing its lane took a tenth of the
+// shading passes' time: a store and a dependent add every lane.)
+std::size_t list_redraws(Wavefront& w, std::size_t begin, std::size_t end) {
+  static_assert(kWavefront % 64 == 0);
+  constexpr std::uint64_t kAll = ~std::uint64_t{0};
+  std::size_t count = 0;
+  for (std::size_t base = begin / 64 * 64; base < end; base += 64) {
+    std::uint64_t bits = 0;
+    for (std::size_t i = 0; i < 64; ++i)
+      bits |= static_cast<std::uint64_t>(w.redraw[base + i] & 1) << i;
+    bits &= base < begin ? kAll << (begin - base) : kAll;
+    bits &= end - base < 64 ? (std::uint64_t{1} << (end - base)) - 1 : kAll;
+    for (; bits != 0; bits &= bits - 1)
+      w.listed[count++] = static_cast<std::uint16_t>(base + std::countr_zero(bits));
+  }
+  return count;
+}
+
 // A dielectric's choice between reflection and refraction, drawn only where it may refract
 // (scatter()'s dielectric: a matched index is no interface, and takes no draw).
 void choose_reflection(Wavefront& w, std::size_t k) {
@@ -211,9 +242,9 @@ float uniform_at(std::uint64_t counter) {
 // rest: the next tries past two rejected points, and the dielectrics. (The same draws before,
 // with one branch per material, cost more: the draws then ran one lane at a time. With one point
 // ahead rather than two, a lane in five went on one lane at a time.)
-void draw(Wavefront& w, std::size_t live) {
+void draw(Wavefront& w, std::size_t live, std::size_t lanes) {
   constexpr std::uint64_t kStep = PathRandom::kStep;
-  for (std::size_t k = 0; k < live; ++k) {
+  for (std::size_t k = 0; k < lanes; ++k) {
     const std::uint64_t counter = w.counter[k];
     const float u1 = 2.0f * uniform_at(counter + kStep) - 1.0f;
     const float v1 = 2.0f * uniform_at(counter + 2 * kStep) - 1.0f;
@@ -238,11 +269,7 @@ void draw(Wavefront& w, std::size_t live) {
     w.reflects[k] = 0;
     w.redraw[k] = (wants & (1 - (first | second))) | (w.found[k] & (kind == kDielectric ? 1 : 0));
   }
-  std::size_t count = 0;  // the lanes to redraw, listed without a branch
-  for (std::size_t k = 0; k < live; ++k) {
-    w.listed[count] = static_cast<std::uint16_t>(k);
-    count += static_cast<std::size_t>(w.redraw[k]);
-  }
+  const std::size_t count = list_redraws(w, 0, live);
   for (std::size_t j = 0; j < count; ++j) {
     const std::size_t k = w.listed[j];
     if (w.kind[k] == kDielectric) {
@@ -272,8 +299,8 @@ void offset_origin(Wavefront& w, std::size_t k, float dx, float dy, float dz) {
 
 // scatter()'s direction and attenuation for every lane, the three materials computed and one
 // selected, and spawn()'s origin of the next ray.
-void scatter_all(Wavefront& w, std::size_t live) {
-  for (std::size_t k = 0; k < live; ++k) {
+void scatter_all(Wavefront& w, std::size_t lanes) {
+  for (std::size_t k = 0; k < lanes; ++k) {
     const float nx = w.onx[k], ny = w.ony[k], nz = w.onz[k];
     const float ux = w.ux[k], uy = w.uy[k], uz = w.uz[k];
     const float vx = w.vx[k], vy = w.vy[k], vz = w.vz[k];
@@ -351,20 +378,11 @@ void path_records(const Wavefront& w, std::size_t k, Floats8 (&v)[8]) {
   transpose8(v);
 }
 
-// Lane k's record, as path_records() makes them, into moved[kept].
-void record_path(Wavefront& w, std::size_t k, std::size_t kept) {
-  std::array<float, 8>& record = w.moved[kept];
-  record[0] = w.tr[k], record[1] = w.tg[k], record[2] = w.tb[k];
-  std::memcpy(&record[3], &w.rays_left[k], sizeof(float));
-  std::memcpy(&record[4], &w.slot[k], sizeof(float));
-  std::memcpy(&record[5], &w.counter[k], 2 * sizeof(float));
-  record[7] = 0.0f;
-}
-
-// The records of lanes [0, live) back to one array per quantity, eight at a time transposed.
+// The records of lanes [0, live) back to one array per quantity, eight at a time transposed (the
+// last eight may pass live: moved has every lane).
 void unpack_records(Wavefront& w, std::size_t live) {
-  std::size_t k = 0;
-  for (; k + 8 <= live; k += 8) {
+  static_assert(kWavefront % 8 == 0);
+  for (std::size_t k = 0; k < live; k += 8) {
     Floats8 v[8];
     for (std::size_t i = 0; i < 8; ++i)
       load8(v[i], &w.moved[k + i]);
@@ -374,13 +392,6 @@ void unpack_records(Wavefront& w, std::size_t live) {
     const Floats8 c0 = __builtin_shufflevector(v[5], v[6], 0, 8, 1, 9, 2, 10, 3, 11);
     const Floats8 c1 = __builtin_shufflevector(v[5], v[6], 4, 12, 5, 13, 6, 14, 7, 15);
     store8(&w.counter[k], c0), store8(&w.counter[k + 4], c1);
-  }
-  for (; k < live; ++k) {
-    const std::array<float, 8>& record = w.moved[k];
-    w.tr[k] = record[0], w.tg[k] = record[1], w.tb[k] = record[2];
-    std::memcpy(&w.rays_left[k], &record[3], sizeof(float));
-    std::memcpy(&w.slot[k], &record[4], sizeof(float));
-    std::memcpy(&w.counter[k], &record[5], 2 * sizeof(float));
   }
 }
 
@@ -402,27 +413,22 @@ std::size_t compact_lanes(Wavefront& w, Vec3* radiance, std::size_t live) {
 // Misses hand their light to their pixel; the paths still going move to the front, their next
 // rays into the kernel's array. Written for every lane, kept only for the live ones: no branch.
 // Eight lanes at a time, their rays and the rest of their state transposed into records, each
-// one store (moved one float at a time, a lane took some 30 instructions), the last lanes one by
-// one. Returns the paths kept.
+// one store (moved one float at a time, a lane took some 30 instructions); of the last eight,
+// those up to live. Returns the paths kept.
 std::size_t compact(Wavefront& w, Vec3* radiance, std::size_t live) {
   if (!kTransposes) return compact_lanes(w, radiance, live);
-  std::size_t k = 0, kept = 0;
-  for (; k + 8 <= live; k += 8) {
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < live; k += 8) {
     Floats8 rays[8], records[8];
     next_rays(w, k, rays);
     path_records(w, k, records);
-    for (std::size_t i = 0; i < 8; ++i) {
+    const std::size_t lanes = live - k < 8 ? live - k : 8;
+    for (std::size_t i = 0; i < lanes; ++i) {
       hand_light(w, radiance, k + i);
       store8(&w.rays[kept], rays[i]);
       store8(&w.moved[kept], records[i]);
       kept += static_cast<std::size_t>(w.alive[k + i]);
     }
-  }
-  for (; k < live; ++k) {
-    hand_light(w, radiance, k);
-    w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
-    record_path(w, k, kept);
-    kept += static_cast<std::size_t>(w.alive[k]);
   }
   unpack_records(w, kept);
   return kept;
@@ -431,11 +437,7 @@ std::size_t compact(Wavefront& w, Vec3* radiance, std::size_t live) {
 // The rejected lens points' next tries, one lane at a time: their draws go on past the points
 // start() drew (the path's fourth draw, or sixth with two points ahead).
 void redraw_lens(Wavefront& w, std::size_t begin) {
-  std::size_t count = 0;  // listed without a branch
-  for (std::size_t k = begin; k < w.live; ++k) {
-    w.listed[count] = static_cast<std::uint16_t>(k);
-    count += static_cast<std::size_t>(w.redraw[k]);
-  }
+  const std::size_t count = list_redraws(w, begin, w.live);
   for (std::size_t j = 0; j < count; ++j) {
     const std::size_t k = w.listed[j];
     const DiskPoint p = disk_point(w.counter[k]);
@@ -479,11 +481,11 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
 }
 
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance) {
-  const std::size_t live = w.live;
-  gather(w, table, live);
-  surfaces(w, sky, live);
-  draw(w, live);
-  scatter_all(w, live);
+  const std::size_t live = w.live, lanes = padded(live);
+  gather(w, table, lanes);
+  surfaces(w, sky, lanes);
+  draw(w, live, lanes);
+  scatter_all(w, lanes);
   w.live = compact(w, radiance, live);
 }
 

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -76,15 +77,21 @@ std::vector<Path> start(const Scene& scene, std::uint64_t seed) {
   return paths;
 }
 
+// The paths into the first lanes; the lanes past them poisoned. The passes also compute the lanes
+// just past the live ones (wavefront_passes.cpp): these must change nothing a live path or the
+// light reads. A poisoned lane hits sphere 0 and would live on, and its entry is out of bounds.
 void load(const std::vector<Path>& paths, Wavefront& w) {
   w.live = paths.size();
-  for (std::size_t k = 0; k < paths.size(); ++k) {
-    w.rays[k] = paths[k].ray;
-    w.tr[k] = paths[k].throughput.x, w.tg[k] = paths[k].throughput.y;
-    w.tb[k] = paths[k].throughput.z;
-    w.counter[k] = paths[k].random.counter();
-    w.rays_left[k] = paths[k].rays_left;
-    w.slot[k] = paths[k].slot;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t k = 0; k < kWavefront; ++k) {
+    const bool live = k < paths.size();
+    w.rays[k] = live ? paths[k].ray : Ray{{nan, 1e30f, -1e30f}, {nan, 0.0f, 0.0f}, nan, nan};
+    w.hits[k] = Hit{nan, 0};  // the live lanes' are the kernel's
+    w.tr[k] = live ? paths[k].throughput.x : nan, w.tg[k] = live ? paths[k].throughput.y : nan;
+    w.tb[k] = live ? paths[k].throughput.z : nan;
+    w.counter[k] = live ? paths[k].random.counter() : ~std::uint64_t{0};
+    w.rays_left[k] = live ? paths[k].rays_left : 1000;
+    w.slot[k] = live ? paths[k].slot : 0x7fffffffu;
   }
 }
 
