@@ -111,8 +111,8 @@ class TileTracer {
     w.live = 0;
     const std::size_t pixels = tile.pixels();
     const std::size_t paths = pixels * count;
-    // Every path writes its entry (shade()), so the entries need no zeroing: the thread's
-    // buffer, allocated once, is taken as it is.
+    // A path's entry is zeroed when it starts (start_paths), so the thread's buffer, allocated
+    // once, is taken as it is.
     thread_local std::vector<Vec3> entries;
     if (entries.size() < paths) entries.resize(kWavefront * kSamplesPerPass);
     Vec3* const radiance = entries.data();
@@ -121,7 +121,7 @@ class TileTracer {
     std::uint64_t rays = 0;
     for (int round = 0;; ++round) {
       const std::size_t bouncing = w.live;
-      start_paths(tile, first, paths, next, w);
+      start_paths(tile, first, paths, next, radiance, w);
       if (w.live == 0) break;
       const auto kernel_start = Clock::now();
       // The new paths' camera rays in a call of their own: the kernel looks for coherent groups
@@ -154,9 +154,10 @@ class TileTracer {
 
   // Starts paths next, next + 1, ... in the lanes behind the live paths, in whole groups of 32
   // lanes (the kernel's coherent group) while more than that are left to start. Here each lane's
-  // entry, pixel and sample; the passes' start() draws the camera rays, all lanes together.
+  // entry (zeroed: only a path that misses writes its light there), pixel and sample; the
+  // passes' start() draws the camera rays, all lanes together.
   void start_paths(const Tile& tile, std::uint32_t first, std::size_t paths, std::size_t& next,
-                   Wavefront& w) const {
+                   Vec3* radiance, Wavefront& w) const {
     constexpr std::size_t kGroup = 32;
     const std::size_t begin = w.live;
     const std::size_t free = kWavefront - begin;
@@ -175,6 +176,7 @@ class TileTracer {
       place(tile, static_cast<std::size_t>(tile.width), static_cast<std::size_t>(tile.height),
             first, next, begin, end, w);
     }
+    std::fill_n(radiance + next, starts, Vec3{0.0f, 0.0f, 0.0f});
     next += starts;
     w.live = end;
     if (starts > 0) passes_.start(w, begin, camera_, seed_hash_);

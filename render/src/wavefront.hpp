@@ -54,28 +54,45 @@ class ShadingTable {
 template <class T>
 using Lanes = std::array<T, kWavefront + 64 / sizeof(T)>;
 
-/// A tile's paths: rays and hits for the kernel's stream call, the rest one array per quantity.
-/// The live paths are packed at the front; the tracer fills the lanes behind them with new paths.
-/// 78 KiB: the tracer keeps one on its thread's stack per tile and pass.
+/// A path's state between bounces, in 32 bytes: a path moves to another lane with one store of
+/// its record, and the passes unpack eight records at a time into arrays by a transpose.
+struct alignas(32) PathRecord {
+  float tr, tg, tb;                         // throughput
+  std::int32_t rays_left;                   // the rays the path may still trace, this one included
+  std::uint32_t slot;                       // where the path's light goes (its radiance entry)
+  std::uint32_t counter_low, counter_high;  // its PathRandom counter
+  float sky;  // Sky::radiance's blend for the path's ray, 0.5 (normalize(dir).y + 1)
+
+  std::uint64_t counter() const { return counter_low | std::uint64_t{counter_high} << 32; }
+};
+static_assert(sizeof(PathRecord) == 32);
+
+/// A tile's paths: rays and hits for the kernel's stream call, and each path's record. The live
+/// paths are packed at the front; the tracer fills the lanes behind them with new paths. Before
+/// shading, the paths whose ray missed leave the lanes (their light is all they have left), so
+/// that the passes, one array per quantity, run over the hits alone. 96 KiB: the tracer keeps
+/// one per thread.
 struct Wavefront {
   std::array<Ray, kWavefront> rays;  // the passes write origin to tmax: the masks stay as made
   std::array<Hit, kWavefront> hits;
+  alignas(64) std::array<PathRecord, kWavefront> paths;
+  std::size_t live = 0;
+  // One bounce's misses' records: all that a miss needs for its light.
+  alignas(64) std::array<PathRecord, kWavefront> missed;
+
+  // One bounce's scratch, written and read by shade(); start() writes the new paths' state here
+  // before it makes their records.
   alignas(64) Lanes<float> tr, tg, tb;  // throughput
   Lanes<std::uint64_t> counter;         // each path's PathRandom counter
   Lanes<std::int32_t> rays_left;        // the rays the path may still trace, this one included
   Lanes<std::uint32_t> slot;            // where the path's light goes (its radiance entry)
-  std::size_t live = 0;
-  // compact()'s record of each path still going (the state above but the rays), in its new lane.
-  alignas(64) std::array<std::array<float, 8>, kWavefront> moved;
-
-  // One bounce's scratch, written and read by shade().
+  alignas(64) Lanes<float> sky;         // the next ray's blend of Sky::radiance
   alignas(64) Lanes<float> ox, oy, oz, dx, dy, dz, t;  // the ray, then the next one
   alignas(64) Lanes<float> cx, cy, cz, radius, ex, ey, ez, ar, ag, ab, fuzz, ior;
-  alignas(64) Lanes<std::int32_t> kind, found, alive, row;
+  alignas(64) Lanes<std::int32_t> kind, alive, row;
   alignas(64) Lanes<float> px, py, pz, nx, ny, nz;  // surface point and outward normal
   alignas(64) Lanes<float> onx, ony, onz;           // the normal against the incoming ray
   alignas(64) Lanes<float> ux, uy, uz;              // the unit incoming direction
-  alignas(64) Lanes<float> sr, sg, sb;              // sky light a miss brings
   alignas(64) Lanes<float> eta, cosine, vx, vy, vz;
   alignas(64) Lanes<std::int32_t> reflects, redraw;
   Lanes<std::uint16_t> listed;           // the lanes draw() finishes one at a time
@@ -101,18 +118,19 @@ inline DiskPoint disk_point(std::uint64_t counter) {
   return p;
 }
 
-/// Shades the hits of the wavefront's live paths: every path sets radiance[slot], to 0 + its
-/// sky light on a miss, to 0 on a hit (the sum of a path's light so far); a hit scatters by its
-/// sphere's material and, unless absorbed or out of rays (rays_left 1), stays live with its next
-/// ray (spawned as sphray::spawn does), throughput and one ray fewer left. Packs the live paths
-/// again, in the order they were.
+/// Shades the hits of the wavefront's live paths: a path whose ray missed sets radiance[slot]
+/// to 0 + its sky light (the sum of the path's light: its entry is 0 from the path's start, and
+/// the path ends here); a hit scatters by its sphere's material and, unless absorbed or out of
+/// rays (rays_left 1), stays live with its next ray (spawned as sphray::spawn does), throughput
+/// and one ray fewer left. Packs the live paths again, in the order they were.
 using ShadeFunction = void (*)(Wavefront& w, const ShadingTable& table, const Sky& sky,
                                Vec3* radiance);
 
 /// Starts the paths in lanes [begin, live): from each lane's key (pixel index), sample and
 /// pixel corner (px, py), its PathRandom counter past the camera's draws and its camera ray,
 /// as PathRandom(seed, key, sample) then camera.ray(x + uniform, y + uniform, in_unit_disk()
-/// when the camera has defocus) make them. seed_hash is PathRandom::seed_hash(seed).
+/// when the camera has defocus) make them, and its record, with the throughput, rays left and
+/// entry (slot) the tracer set in the lanes. seed_hash is PathRandom::seed_hash(seed).
 using StartFunction = void (*)(Wavefront& w, std::size_t begin, const Camera& camera,
                                std::uint64_t seed_hash);
 

@@ -31,6 +31,13 @@ float power_of_two_near_inverse(float x) {
   return std::bit_cast<float>(static_cast<std::uint32_t>(scale) << 23);
 }
 
+// Sky::radiance's blend for a ray's direction, 0.5 (normalize(dir).y + 1): computed with the ray,
+// in a vector pass, and kept in its path's record, it is all a miss needs besides the throughput.
+float sky_blend(float dx, float dy, float dz) {
+  const float length = std::sqrt(dx * dx + dy * dy + dz * dz);
+  return 0.5f * (dy / length + 1.0f);
+}
+
 // spawn()'s step of x to the next float in the direction of sign, as selects.
 float away(float x, float sign) {
   const auto bits = std::bit_cast<std::uint32_t>(x);
@@ -124,8 +131,10 @@ void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t
   }
 }
 
-// Each live path's ray (eight at a time transposed, the last ones one by one), hit and sphere,
-// one array per quantity.
+void unpack_records(Wavefront& w, std::size_t lanes);
+
+// Each hit path's ray (eight at a time transposed, the last ones one by one), hit, sphere and
+// state, one array per quantity.
 void gather(Wavefront& w, const ShadingTable& table, std::size_t lanes) {
   std::size_t k = 0;
   for (; kTransposes && k + 8 <= lanes; k += 8) {
@@ -143,16 +152,14 @@ void gather(Wavefront& w, const ShadingTable& table, std::size_t lanes) {
   }
   for (k = 0; k < lanes; ++k) {
     w.t[k] = w.hits[k].t;
-    w.found[k] = w.hits[k].found();
     w.row[k] = static_cast<std::int32_t>(table.index(w.hits[k].id));
   }
   gather_rows(w, table.rows(), lanes);
+  unpack_records(w, lanes);
 }
 
-// sphray::surface() for every lane, the unit incoming direction, the normal against it, and the
-// sky light of a miss.
-void surfaces(Wavefront& w, const Sky& sky, std::size_t lanes) {
-  const Vec3 horizon = sky.horizon, zenith = sky.zenith;  // no aliasing the lanes: vectorised
+// sphray::surface() for every lane, the unit incoming direction and the normal against it.
+void surfaces(Wavefront& w, std::size_t lanes) {
   for (std::size_t k = 0; k < lanes; ++k) {
     const float px = w.ox[k] + w.t[k] * w.dx[k];
     const float py = w.oy[k] + w.t[k] * w.dy[k];
@@ -183,15 +190,6 @@ void surfaces(Wavefront& w, const Sky& sky, std::size_t lanes) {
     w.eta[k] = front ? inverse : ior;
     const float c = -w.ux[k] * ox + -w.uy[k] * oy + -w.uz[k] * oz;
     w.cosine[k] = 1.0f < c ? 1.0f : c;
-    // Sky::radiance(dir), with normalize(dir).y the lane's uy.
-    const float a = 0.5f * (w.uy[k] + 1.0f);
-    // For a miss; a hit adds +0, which leaves a radiance sum's bits as they are (no sum of
-    // such terms is ever -0, and x + 0 == x bit for bit for every other x).
-    const float lr = w.tr[k] * ((1.0f - a) * horizon.x + a * zenith.x);
-    const float lg = w.tg[k] * ((1.0f - a) * horizon.y + a * zenith.y);
-    const float lb = w.tb[k] * ((1.0f - a) * horizon.z + a * zenith.z);
-    const bool hit = w.found[k];
-    w.sr[k] = hit ? 0.0f : lr, w.sg[k] = hit ? 0.0f : lg, w.sb[k] = hit ? 0.0f : lb;
   }
 }
 
@@ -242,7 +240,7 @@ float uniform_at(std::uint64_t counter) {
 // rest: the next tries past two rejected points, and the dielectrics. (The same draws before,
 // with one branch per material, cost more: the draws then ran one lane at a time. With one point
 // ahead rather than two, a lane in five went on one lane at a time.)
-void draw(Wavefront& w, std::size_t live, std::size_t lanes) {
+void draw(Wavefront& w, std::size_t hits, std::size_t lanes) {
   constexpr std::uint64_t kStep = PathRandom::kStep;
   for (std::size_t k = 0; k < lanes; ++k) {
     const std::uint64_t counter = w.counter[k];
@@ -255,7 +253,7 @@ void draw(Wavefront& w, std::size_t live, std::size_t lanes) {
     const float s2 = u2 * u2 + v2 * v2;
     const std::int32_t kind = w.kind[k];
     const std::int32_t fuzzed = (kind == kMetal ? 1 : 0) & (w.fuzz[k] > 0.0f ? 1 : 0);
-    const std::int32_t wants = w.found[k] & ((kind == kLambertian ? 1 : 0) | fuzzed);
+    const std::int32_t wants = (kind == kLambertian ? 1 : 0) | fuzzed;
     const std::int32_t first = s1 < 1.0f ? 1 : 0;
     const std::int32_t second = (1 - first) & (s2 < 1.0f ? 1 : 0);
     const std::int32_t drawn = wants & (first | second);
@@ -267,9 +265,9 @@ void draw(Wavefront& w, std::size_t live, std::size_t lanes) {
     const std::uint64_t past = first ? counter + 2 * kStep : counter + 4 * kStep;
     w.counter[k] = drawn ? past : counter;
     w.reflects[k] = 0;
-    w.redraw[k] = (wants & (1 - (first | second))) | (w.found[k] & (kind == kDielectric ? 1 : 0));
+    w.redraw[k] = (wants & (1 - (first | second))) | (kind == kDielectric ? 1 : 0);
   }
-  const std::size_t count = list_redraws(w, 0, live);
+  const std::size_t count = list_redraws(w, 0, hits);
   for (std::size_t j = 0; j < count; ++j) {
     const std::size_t k = w.listed[j];
     if (w.kind[k] == kDielectric) {
@@ -337,20 +335,14 @@ void scatter_all(Wavefront& w, std::size_t lanes) {
     const float dy = kind == kLambertian ? (near_zero ? ny : ly) : (kind == kMetal ? my : gy);
     const float dz = kind == kLambertian ? (near_zero ? nz : lz) : (kind == kMetal ? mz : gz);
     w.dx[k] = dx, w.dy[k] = dy, w.dz[k] = dz;
+    w.sky[k] = sky_blend(dx, dy, dz);
     offset_origin(w, k, dx, dy, dz);
     // A path that traced its last ray brings no light, as the book's max_depth.
     const std::int32_t more = w.rays_left[k] > 1 ? 1 : 0;
-    w.alive[k] = w.found[k] & (1 - absorbed) & more;
+    w.alive[k] = (1 - absorbed) & more;
     w.rays_left[k] = w.rays_left[k] - 1;
     w.tr[k] = w.tr[k] * w.ar[k], w.tg[k] = w.tg[k] * w.ag[k], w.tb[k] = w.tb[k] * w.ab[k];
   }
-}
-
-// Every path writes its light to its entry: 0 while it hits, its sky light once it misses (and
-// then ends), so the entry holds 0 + the light, the sum the entry had when misses added their
-// light to entries set to 0: the same bits, without reading the entry.
-void hand_light(const Wavefront& w, Vec3* radiance, std::size_t k) {
-  radiance[w.slot[k]] = Vec3{0.0f + w.sr[k], 0.0f + w.sg[k], 0.0f + w.sb[k]};
 }
 
 // Lanes k to k + 8's next rays as the kernel's Rays' first 8 floats (the mask stays as the Ray
@@ -374,18 +366,32 @@ void path_records(const Wavefront& w, std::size_t k, Floats8 (&v)[8]) {
   load8(c0, &w.counter[k]), load8(c1, &w.counter[k + 4]);
   v[5] = __builtin_shufflevector(c0, c1, 0, 2, 4, 6, 8, 10, 12, 14);
   v[6] = __builtin_shufflevector(c0, c1, 1, 3, 5, 7, 9, 11, 13, 15);
-  v[7] = Floats8{};
+  load8(v[7], &w.sky[k]);
   transpose8(v);
 }
 
-// The records of lanes [0, live) back to one array per quantity, eight at a time transposed (the
-// last eight may pass live: moved has every lane).
-void unpack_records(Wavefront& w, std::size_t live) {
+// Lane k's record, as path_records() makes them.
+PathRecord record_of(const Wavefront& w, std::size_t k) {
+  const std::uint64_t counter = w.counter[k];
+  return {w.tr[k],
+          w.tg[k],
+          w.tb[k],
+          w.rays_left[k],
+          w.slot[k],
+          static_cast<std::uint32_t>(counter),
+          static_cast<std::uint32_t>(counter >> 32),
+          w.sky[k]};
+}
+
+// The records of lanes [0, lanes) as one array per quantity, eight at a time transposed (the
+// last eight may pass the live lanes: every lane has a record), or one lane at a time.
+void unpack_records(Wavefront& w, std::size_t lanes) {
   static_assert(kWavefront % 8 == 0);
-  for (std::size_t k = 0; k < live; k += 8) {
+  std::size_t k = 0;
+  for (; kTransposes && k < lanes; k += 8) {
     Floats8 v[8];
     for (std::size_t i = 0; i < 8; ++i)
-      load8(v[i], &w.moved[k + i]);
+      load8(v[i], &w.paths[k + i]);
     transpose8(v);
     store8(&w.tr[k], v[0]), store8(&w.tg[k], v[1]), store8(&w.tb[k], v[2]);
     store8(&w.rays_left[k], v[3]), store8(&w.slot[k], v[4]);
@@ -393,44 +399,68 @@ void unpack_records(Wavefront& w, std::size_t live) {
     const Floats8 c1 = __builtin_shufflevector(v[5], v[6], 4, 12, 5, 13, 6, 14, 7, 15);
     store8(&w.counter[k], c0), store8(&w.counter[k + 4], c1);
   }
-}
-
-// compact() one lane at a time, each path's state moved in place.
-std::size_t compact_lanes(Wavefront& w, Vec3* radiance, std::size_t live) {
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < live; ++k) {
-    hand_light(w, radiance, k);
-    w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
-    w.tr[kept] = w.tr[k], w.tg[kept] = w.tg[k], w.tb[kept] = w.tb[k];
-    w.counter[kept] = w.counter[k];
-    w.rays_left[kept] = w.rays_left[k];
-    w.slot[kept] = w.slot[k];
-    kept += static_cast<std::size_t>(w.alive[k]);
+  for (; k < lanes; ++k) {
+    const PathRecord& path = w.paths[k];
+    w.tr[k] = path.tr, w.tg[k] = path.tg, w.tb[k] = path.tb;
+    w.rays_left[k] = path.rays_left, w.slot[k] = path.slot, w.counter[k] = path.counter();
   }
-  return kept;
 }
 
-// Misses hand their light to their pixel; the paths still going move to the front, their next
-// rays into the kernel's array. Written for every lane, kept only for the live ones: no branch.
-// Eight lanes at a time, their rays and the rest of their state transposed into records, each
-// one store (moved one float at a time, a lane took some 30 instructions); of the last eight,
-// those up to live. Returns the paths kept.
-std::size_t compact(Wavefront& w, Vec3* radiance, std::size_t live) {
-  if (!kTransposes) return compact_lanes(w, radiance, live);
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < live; k += 8) {
+// The paths whose ray hit move to the front of the lanes, in order (ray, hit and record); the
+// others' records go to the misses' array. Each record is stored to both places and kept in one:
+// no branch. Returns the hits.
+std::size_t partition(Wavefront& w, std::size_t live) {
+  std::size_t hits = 0, misses = 0;
+  for (std::size_t k = 0; k < live; ++k) {
+    Floats8 ray, path;
+    load8(ray, &w.rays[k]), load8(path, &w.paths[k]);
+    const Hit hit = w.hits[k];
+    store8(&w.rays[hits], ray), store8(&w.paths[hits], path);
+    w.hits[hits] = hit;
+    store8(&w.missed[misses], path);
+    const std::size_t found = hit.found() ? 1 : 0;
+    hits += found, misses += 1 - found;
+  }
+  return hits;
+}
+
+// Each miss's light, its throughput times Sky::radiance(dir), to its entry: 0 + the light, the
+// sum the entry (0 since the path started) makes with it, without reading the entry.
+void light_misses(const Wavefront& w, const Sky& sky, std::size_t misses, Vec3* radiance) {
+  const Vec3 horizon = sky.horizon, zenith = sky.zenith;
+  for (std::size_t j = 0; j < misses; ++j) {
+    const PathRecord& path = w.missed[j];
+    const float a = path.sky;
+    const float lr = path.tr * ((1.0f - a) * horizon.x + a * zenith.x);
+    const float lg = path.tg * ((1.0f - a) * horizon.y + a * zenith.y);
+    const float lb = path.tb * ((1.0f - a) * horizon.z + a * zenith.z);
+    radiance[path.slot] = Vec3{0.0f + lr, 0.0f + lg, 0.0f + lb};
+  }
+}
+
+// The paths still going move to the front, their next rays into the kernel's array and their
+// state into records. Written for every lane, kept only for the live ones: no branch. Eight
+// lanes at a time, their rays and records made by transposes, each one store (moved one float
+// at a time, a lane took some 30 instructions); of the last eight, those up to hits. Returns
+// the paths kept.
+std::size_t compact(Wavefront& w, std::size_t hits) {
+  std::size_t k = 0, kept = 0;
+  for (; kTransposes && k < hits; k += 8) {
     Floats8 rays[8], records[8];
     next_rays(w, k, rays);
     path_records(w, k, records);
-    const std::size_t lanes = live - k < 8 ? live - k : 8;
+    const std::size_t lanes = hits - k < 8 ? hits - k : 8;
     for (std::size_t i = 0; i < lanes; ++i) {
-      hand_light(w, radiance, k + i);
       store8(&w.rays[kept], rays[i]);
-      store8(&w.moved[kept], records[i]);
+      store8(&w.paths[kept], records[i]);
       kept += static_cast<std::size_t>(w.alive[k + i]);
     }
   }
-  unpack_records(w, kept);
+  for (; k < hits; ++k) {
+    w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
+    w.paths[kept] = record_of(w, k);
+    kept += static_cast<std::size_t>(w.alive[k]);
+  }
   return kept;
 }
 
@@ -476,17 +506,34 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
   }
   if (lens) redraw_lens(w, begin);
   const Camera copy = camera;  // a local: no store to the lanes can change it
-  for (std::size_t k = begin; k < live; ++k)
+  for (std::size_t k = begin; k < live; ++k) {
     w.rays[k] = copy.ray(w.px[k], w.py[k], w.vx[k], w.vy[k]);  // the pinhole's without a lens
+  }
+  for (std::size_t k = begin; k < live; ++k) {  // the ray again, not read back: vectorised
+    const Vec3 dir = copy.ray(w.px[k], w.py[k], w.vx[k], w.vy[k]).dir;
+    w.sky[k] = sky_blend(dir.x, dir.y, dir.z);
+  }
+  std::size_t k = begin;  // the new paths' records: eight at a time transposed, or one by one
+  for (; kTransposes && k < live; k += 8) {
+    Floats8 records[8];
+    path_records(w, k, records);
+    const std::size_t lanes = live - k < 8 ? live - k : 8;
+    for (std::size_t i = 0; i < lanes; ++i)
+      store8(&w.paths[k + i], records[i]);
+  }
+  for (; k < live; ++k)
+    w.paths[k] = record_of(w, k);
 }
 
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance) {
-  const std::size_t live = w.live, lanes = padded(live);
+  const std::size_t hits = partition(w, w.live);
+  light_misses(w, sky, w.live - hits, radiance);
+  const std::size_t lanes = padded(hits);
   gather(w, table, lanes);
-  surfaces(w, sky, lanes);
-  draw(w, live, lanes);
+  surfaces(w, lanes);
+  draw(w, hits, lanes);
   scatter_all(w, lanes);
-  w.live = compact(w, radiance, live);
+  w.live = compact(w, hits);
 }
 
 }  // namespace sphray::render::SPHRAY_SHADE_ISA

@@ -77,21 +77,35 @@ std::vector<Path> start(const Scene& scene, std::uint64_t seed) {
   return paths;
 }
 
+// Sky::radiance's blend for a direction, as the record of a path keeps it for its ray.
+float sky_blend(Vec3 dir) {
+  return 0.5f * (dir.y / length(dir) + 1.0f);
+}
+
+PathRecord record(const Path& path) {
+  const std::uint64_t counter = path.random.counter();
+  return {path.throughput.x,
+          path.throughput.y,
+          path.throughput.z,
+          path.rays_left,
+          path.slot,
+          static_cast<std::uint32_t>(counter),
+          static_cast<std::uint32_t>(counter >> 32),
+          sky_blend(path.ray.dir)};
+}
+
 // The paths into the first lanes; the lanes past them poisoned. The passes also compute the lanes
 // just past the live ones (wavefront_passes.cpp): these must change nothing a live path or the
 // light reads. A poisoned lane hits sphere 0 and would live on, and its entry is out of bounds.
 void load(const std::vector<Path>& paths, Wavefront& w) {
   w.live = paths.size();
   const float nan = std::numeric_limits<float>::quiet_NaN();
+  const PathRecord poison{nan, nan, nan, 1000, 0x7fffffffu, ~0u, ~0u, nan};
   for (std::size_t k = 0; k < kWavefront; ++k) {
     const bool live = k < paths.size();
     w.rays[k] = live ? paths[k].ray : Ray{{nan, 1e30f, -1e30f}, {nan, 0.0f, 0.0f}, nan, nan};
     w.hits[k] = Hit{nan, 0};  // the live lanes' are the kernel's
-    w.tr[k] = live ? paths[k].throughput.x : nan, w.tg[k] = live ? paths[k].throughput.y : nan;
-    w.tb[k] = live ? paths[k].throughput.z : nan;
-    w.counter[k] = live ? paths[k].random.counter() : ~std::uint64_t{0};
-    w.rays_left[k] = live ? paths[k].rays_left : 1000;
-    w.slot[k] = live ? paths[k].slot : 0x7fffffffu;
+    w.paths[k] = live ? record(paths[k]) : poison;
   }
 }
 
@@ -102,10 +116,12 @@ void expect_same(const std::vector<Path>& expected, const Wavefront& w) {
     expect_same(expected[k].ray.dir, w.rays[k].dir, "direction", k);
     EXPECT_EQ(w.rays[k].tmin, 0.0f);
     EXPECT_EQ(w.rays[k].tmax, INFINITY);
-    expect_same(expected[k].throughput, {w.tr[k], w.tg[k], w.tb[k]}, "throughput", k);
-    EXPECT_EQ(expected[k].random.counter(), w.counter[k]) << "lane " << k;
-    EXPECT_EQ(expected[k].slot, w.slot[k]) << "lane " << k;
-    EXPECT_EQ(expected[k].rays_left, w.rays_left[k]) << "lane " << k;
+    const PathRecord& path = w.paths[k];
+    expect_same(expected[k].throughput, {path.tr, path.tg, path.tb}, "throughput", k);
+    EXPECT_EQ(expected[k].random.counter(), path.counter()) << "lane " << k;
+    EXPECT_EQ(expected[k].slot, path.slot) << "lane " << k;
+    EXPECT_EQ(expected[k].rays_left, path.rays_left) << "lane " << k;
+    EXPECT_EQ(bits(sky_blend(expected[k].ray.dir)), bits(path.sky)) << "sky blend, lane " << k;
   }
 }
 
@@ -192,7 +208,9 @@ TEST(Wavefront, MatchesTheOnePathFunctionsOnEveryMaterial) {
 }
 
 // start() against PathRandom and the camera, one path at a time, behind some live lanes: every
-// copy, with the lens (rtiow-final's defocus blur) and without it.
+// copy, with the lens (rtiow-final's defocus blur) and without it. The new paths' records hold
+// the state the tracer set in the lanes, the counter past the camera's draws and the ray's sky
+// blend.
 void expect_starts_agree(const Scene& scene, StartFunction start) {
   const Camera camera(scene.camera, 160, 90);
   const std::uint64_t seed = 11;
@@ -203,6 +221,9 @@ void expect_starts_agree(const Scene& scene, StartFunction start) {
     w->key[k] = 1000 + 7 * k;
     w->sample[k] = static_cast<std::uint32_t>(k % 5);
     w->px[k] = static_cast<float>(k % 160), w->py[k] = static_cast<float>(k / 160 + 3);
+    w->tr[k] = 1.0f, w->tg[k] = 0.5f, w->tb[k] = 0.25f;
+    w->rays_left[k] = static_cast<std::int32_t>(k % 50 + 1);
+    w->slot[k] = static_cast<std::uint32_t>(3 * k);
   }
   start(*w, begin, camera, PathRandom::seed_hash(seed));
   for (std::size_t k = begin; k < kWavefront; ++k) {
@@ -216,7 +237,12 @@ void expect_starts_agree(const Scene& scene, StartFunction start) {
     }
     expect_same(expected.origin, w->rays[k].origin, "camera origin", k);
     expect_same(expected.dir, w->rays[k].dir, "camera direction", k);
-    EXPECT_EQ(random.counter(), w->counter[k]) << "lane " << k;
+    const PathRecord& path = w->paths[k];
+    EXPECT_EQ(random.counter(), path.counter()) << "lane " << k;
+    expect_same({1.0f, 0.5f, 0.25f}, {path.tr, path.tg, path.tb}, "throughput", k);
+    EXPECT_EQ(static_cast<std::int32_t>(k % 50 + 1), path.rays_left) << "lane " << k;
+    EXPECT_EQ(3 * k, path.slot) << "lane " << k;
+    EXPECT_EQ(bits(sky_blend(expected.dir)), bits(path.sky)) << "sky blend, lane " << k;
   }
 }
 
