@@ -70,7 +70,7 @@ static_assert(sizeof(PathRecord) == 32);
 /// A tile's paths: rays and hits for the kernel's stream call, and each path's record. The live
 /// paths are packed at the front; the tracer fills the lanes behind them with new paths. Before
 /// shading, the paths whose ray missed leave the lanes (their light is all they have left), so
-/// that the passes, one array per quantity, run over the hits alone. 96 KiB: the tracer keeps
+/// that the passes, one array per quantity, run over the hits alone. 83 KiB: the tracer keeps
 /// one per thread.
 struct Wavefront {
   std::array<Ray, kWavefront> rays;  // the passes write origin to tmax: the masks stay as made
