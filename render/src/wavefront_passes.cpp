@@ -50,10 +50,10 @@ float away(float x, float sign) {
 }
 
 // The lanes a float pass runs over: the live ones and those up to the next multiple of 16, the
-// widest copy's vector, so that no pass ends in a tail of lanes one at a time (GCC's epilogue),
-// which cost the AVX-512 copy a tenth of its time. The lanes past the live ones hold values of
-// earlier rounds (the tracer's wavefront is zeroed once, when made); what they compute is never
-// read. Passes that write outside the lanes (light, draws one lane at a time) stop at live.
+// widest copy's vector, so that no pass ends in a tail of lanes one at a time (GCC's epilogue:
+// scalar divisions and square roots, some 9% of shade()'s profile). The lanes past the live
+// ones hold values of earlier rounds (the tracer's wavefront is zeroed once, when made); what
+// they compute is never read. Passes that write outside the lanes stop at the live count.
 constexpr std::size_t kLaneBlock = 16;
 static_assert(kWavefront % kLaneBlock == 0);
 std::size_t padded(std::size_t live) {
@@ -195,8 +195,8 @@ void surfaces(Wavefront& w, std::size_t lanes) {
 
 // Lists in w.listed the lanes of [begin, end) whose redraw flag is set, in order, and returns
 // how many: the flags of 64 lanes as the bits of a word (a loop that vectorises), then the word's
-// set bits. (A loop adding each flag to the count after storing its lane took a tenth of the
-// shading passes' time: a store and a dependent add every lane.)
+// set bits. (A loop adding each flag to the count after storing its lane, a store and a dependent
+// add every lane, was 6% of shade()'s profile.)
 std::size_t list_redraws(Wavefront& w, std::size_t begin, std::size_t end) {
   static_assert(kWavefront % 64 == 0);
   constexpr std::uint64_t kAll = ~std::uint64_t{0};
