@@ -100,6 +100,11 @@ void store8(void* to, const Floats8& v) {
   }
 }
 
+// A PathRecord's eight fields, in the order the record transposes put them.
+static_assert(offsetof(PathRecord, tr) == 0 && offsetof(PathRecord, rays_left) == 12 &&
+              offsetof(PathRecord, slot) == 16 && offsetof(PathRecord, counter_low) == 20 &&
+              offsetof(PathRecord, counter_high) == 24 && offsetof(PathRecord, sky) == 28);
+
 // A Ray's first eight floats: origin, direction, tmin and tmax.
 static_assert(offsetof(Ray, origin) == 0 && offsetof(Ray, dir) == 12 && offsetof(Ray, tmax) == 28);
 
@@ -131,7 +136,28 @@ void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t
   }
 }
 
-void unpack_records(Wavefront& w, std::size_t lanes);
+// The records of lanes [0, lanes) as one array per quantity, eight at a time transposed (the
+// last eight may pass the live lanes: every lane has a record), or one lane at a time.
+void unpack_records(Wavefront& w, std::size_t lanes) {
+  static_assert(kWavefront % 8 == 0);
+  std::size_t k = 0;
+  for (; kTransposes && k < lanes; k += 8) {
+    Floats8 v[8];
+    for (std::size_t i = 0; i < 8; ++i)
+      load8(v[i], &w.paths[k + i]);
+    transpose8(v);
+    store8(&w.tr[k], v[0]), store8(&w.tg[k], v[1]), store8(&w.tb[k], v[2]);
+    store8(&w.rays_left[k], v[3]), store8(&w.slot[k], v[4]);
+    const Floats8 c0 = __builtin_shufflevector(v[5], v[6], 0, 8, 1, 9, 2, 10, 3, 11);
+    const Floats8 c1 = __builtin_shufflevector(v[5], v[6], 4, 12, 5, 13, 6, 14, 7, 15);
+    store8(&w.counter[k], c0), store8(&w.counter[k + 4], c1);
+  }
+  for (; k < lanes; ++k) {
+    const PathRecord& path = w.paths[k];
+    w.tr[k] = path.tr, w.tg[k] = path.tg, w.tb[k] = path.tb;
+    w.rays_left[k] = path.rays_left, w.slot[k] = path.slot, w.counter[k] = path.counter();
+  }
+}
 
 // Each hit path's ray (eight at a time transposed, the last ones one by one), hit, sphere and
 // state, one array per quantity.
@@ -358,8 +384,8 @@ void scatter_all(Wavefront& w, std::size_t lanes) {
 }
 
 // Lanes k to k + 8's state that goes with a path to its next lane, as records (the bits of the
-// throughput, rays left, entry, and the counter's low and high halves), by a transpose: row i
-// is lane k + i's record.
+// throughput, rays left, entry, the counter's low and high halves and the sky blend, in
+// PathRecord's order), by a transpose: row i is lane k + i's record.
 [[gnu::always_inline]] inline void path_records(const Wavefront& w, std::size_t k,
                                                 Floats8 (&v)[8]) {
   Floats8 c0, c1;
@@ -383,29 +409,6 @@ PathRecord record_of(const Wavefront& w, std::size_t k) {
           static_cast<std::uint32_t>(counter),
           static_cast<std::uint32_t>(counter >> 32),
           w.sky[k]};
-}
-
-// The records of lanes [0, lanes) as one array per quantity, eight at a time transposed (the
-// last eight may pass the live lanes: every lane has a record), or one lane at a time.
-void unpack_records(Wavefront& w, std::size_t lanes) {
-  static_assert(kWavefront % 8 == 0);
-  std::size_t k = 0;
-  for (; kTransposes && k < lanes; k += 8) {
-    Floats8 v[8];
-    for (std::size_t i = 0; i < 8; ++i)
-      load8(v[i], &w.paths[k + i]);
-    transpose8(v);
-    store8(&w.tr[k], v[0]), store8(&w.tg[k], v[1]), store8(&w.tb[k], v[2]);
-    store8(&w.rays_left[k], v[3]), store8(&w.slot[k], v[4]);
-    const Floats8 c0 = __builtin_shufflevector(v[5], v[6], 0, 8, 1, 9, 2, 10, 3, 11);
-    const Floats8 c1 = __builtin_shufflevector(v[5], v[6], 4, 12, 5, 13, 6, 14, 7, 15);
-    store8(&w.counter[k], c0), store8(&w.counter[k + 4], c1);
-  }
-  for (; k < lanes; ++k) {
-    const PathRecord& path = w.paths[k];
-    w.tr[k] = path.tr, w.tg[k] = path.tg, w.tb[k] = path.tb;
-    w.rays_left[k] = path.rays_left, w.slot[k] = path.slot, w.counter[k] = path.counter();
-  }
 }
 
 // The paths whose ray hit move to the front of the lanes, in order (ray, hit and record); the
