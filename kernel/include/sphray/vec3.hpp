@@ -1,6 +1,13 @@
 // Vec3: three floats with the arithmetic a ray tracer needs.
 #pragma once
 
+// Every public C++ header includes this one, so the check of the language standard lives here:
+// without it, a C++17 build fails later on std::span with no word of why. (C programs use
+// <sphray/sphray.h>, which needs no C++ at all.)
+#if !defined(__cplusplus) || __cplusplus < 202002L
+#error "sphray's C++ headers need C++20: compile with -std=c++20 (C: <sphray/sphray.h>)"
+#endif
+
 #include <cmath>
 
 namespace sphray {
