@@ -69,8 +69,6 @@ TEST_F(CApiErrors, CreateRefusesNullPointers) {
 TEST_F(CApiErrors, CreateRefusesBadCountsStridesAlignmentAndAccel) {
   sphray_scene* out = nullptr;
   const char* f = "sphray_scene_create";
-  expect_failure(sphray_scene_create(cx, cy, cz, r, 0, 0, 0, &out), SPHRAY_ERROR_INVALID_ARGUMENT,
-                 f, "count is 0");
   // 2^32 spheres: one more than the ids can name. Refused before any array is read.
   expect_failure(sphray_scene_create(cx, cy, cz, r, std::size_t{1} << 32, 0, 0, &out),
                  SPHRAY_ERROR_TOO_LARGE, f, "2^32 - 1");
@@ -124,7 +122,6 @@ TEST_F(CApiErrors, QueriesRefuseNullPointersAndBadCounts) {
     expect_failure(call(nullptr, rays, false, 2), SPHRAY_ERROR_NULL_POINTER, f, "scene is NULL");
     expect_failure(call(scene, nullptr, false, 2), SPHRAY_ERROR_NULL_POINTER, f, "rays is NULL");
     expect_failure(call(scene, rays, true, 2), SPHRAY_ERROR_NULL_POINTER, f, "NULL");
-    expect_failure(call(scene, rays, false, 0), SPHRAY_ERROR_INVALID_ARGUMENT, f, "count is 0");
     expect_failure(call(scene, rays, false, huge), SPHRAY_ERROR_TOO_LARGE, f, "count exceeds");
     EXPECT_EQ(call(scene, rays, false, 2), SPHRAY_OK) << sphray_last_error();
   }
@@ -156,8 +153,6 @@ TEST_F(CApiErrors, ArraysRefuseNullPointersAndBadCounts) {
   no_dy.dy = nullptr;
   expect_failure(sphray_intersect_arrays(scene, &no_dy, t, id, 2), SPHRAY_ERROR_NULL_POINTER, f,
                  "direction array is NULL");
-  expect_failure(sphray_intersect_arrays(scene, &arrays, t, id, 0), SPHRAY_ERROR_INVALID_ARGUMENT,
-                 f, "count is 0");
   expect_failure(sphray_intersect_arrays(scene, &arrays, t, id, PTRDIFF_MAX),
                  SPHRAY_ERROR_TOO_LARGE, f, "count exceeds");
   ASSERT_EQ(sphray_intersect_arrays(scene, &arrays, t, id, 2), SPHRAY_OK) << sphray_last_error();
@@ -176,8 +171,6 @@ TEST_F(CApiErrors, SpawnRefusesNullPointersAndBadCounts) {
                  "dirs is NULL");
   expect_failure(sphray_spawn(surfaces, dirs, nullptr, 2), SPHRAY_ERROR_NULL_POINTER, f,
                  "rays is NULL");
-  expect_failure(sphray_spawn(surfaces, dirs, out, 0), SPHRAY_ERROR_INVALID_ARGUMENT, f,
-                 "count is 0");
   expect_failure(sphray_spawn(surfaces, dirs, out, PTRDIFF_MAX), SPHRAY_ERROR_TOO_LARGE, f,
                  "count exceeds");
 }
@@ -195,8 +188,6 @@ TEST_F(CApiErrors, QueriesBeyondTheClosestHitRefuseBadArguments) {
                  SPHRAY_ERROR_NULL_POINTER, f, "output array is NULL");
   expect_failure(sphray_intersect_all(scene, rays, 2, 2, nullptr, nullptr, counts),
                  SPHRAY_ERROR_NULL_POINTER, f, "hits is NULL");
-  expect_failure(sphray_intersect_all(scene, rays, 0, 2, all, nullptr, counts),
-                 SPHRAY_ERROR_INVALID_ARGUMENT, f, "count is 0");
   expect_failure(sphray_intersect_all(scene, rays, 2, PTRDIFF_MAX, all, nullptr, counts),
                  SPHRAY_ERROR_TOO_LARGE, f, "max_hits");
   // Counts only, without hits: the first ray crosses sphere 0 twice, the second nothing.
@@ -215,16 +206,12 @@ TEST_F(CApiErrors, QueriesBeyondTheClosestHitRefuseBadArguments) {
                  SPHRAY_ERROR_NULL_POINTER, "sphray_count_hits_masked", "masks is NULL");
   expect_failure(sphray_intersect_all_masked(scene, rays, nullptr, 2, 0, nullptr, nullptr, counts),
                  SPHRAY_ERROR_NULL_POINTER, "sphray_intersect_all_masked", "masks is NULL");
-  expect_failure(sphray_count_hits_masked(scene, rays, masks, counts, 0),
-                 SPHRAY_ERROR_INVALID_ARGUMENT, "sphray_count_hits_masked", "count is 0");
   expect_failure(sphray_scene_set_masks(scene, masks, 3), SPHRAY_ERROR_INVALID_ARGUMENT,
                  "sphray_scene_set_masks", "stride_bytes");
   expect_failure(sphray_scene_set_masks(nullptr, masks, 0), SPHRAY_ERROR_NULL_POINTER,
                  "sphray_scene_set_masks", "scene is NULL");
   expect_failure(sphray_nearest(scene, nullptr, INFINITY, near, 2), SPHRAY_ERROR_NULL_POINTER,
                  "sphray_nearest", "is NULL");
-  expect_failure(sphray_inside(scene, points, in, 0), SPHRAY_ERROR_INVALID_ARGUMENT,
-                 "sphray_inside", "count is 0");
   f = "sphray_overlapping";
   expect_failure(sphray_overlapping(scene, nullptr, 1.0f, nullptr, 0, &total),
                  SPHRAY_ERROR_NULL_POINTER, f, "centre is NULL");
@@ -284,19 +271,110 @@ TEST_F(CApiErrors, AReleasedSceneIsReportedEverywhere) {
                  "scene is NULL");
 }
 
+// Empty work is success: a count of 0 reads and writes nothing (the arrays may then be NULL, as
+// an empty std::vector's data() is); only the scene must still be live.
+TEST_F(CApiErrors, EmptyWorkIsSuccessAndWritesNothing) {
+  std::size_t counts[1] = {7};
+  unsigned char in[1] = {7};
+  sphray_ray out[1] = {};
+  out[0].tmax = 7;
+  const std::uint32_t masks[1] = {1};
+  const sphray_ray_arrays arrays{nullptr, nullptr, nullptr, nullptr, nullptr,
+                                 nullptr, nullptr, nullptr, nullptr};
+  hits[0] = {7, 7};
+  occluded[0] = 7;
+  EXPECT_EQ(sphray_intersect(scene, nullptr, nullptr, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_intersect(scene, rays, hits, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_intersect_arrays(scene, nullptr, nullptr, nullptr, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_intersect_arrays(scene, &arrays, nullptr, nullptr, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_occluded(scene, rays, occluded, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_intersect_masked(scene, rays, nullptr, hits, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_occluded_masked(scene, rays, masks, occluded, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_intersect_parallel(scene, nullptr, nullptr, 0, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_occluded_parallel(scene, rays, occluded, 0, 2), SPHRAY_OK);
+  EXPECT_EQ(sphray_surface(scene, rays, hits, nullptr, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_spawn(nullptr, nullptr, out, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_intersect_all(scene, rays, 0, 4, nullptr, nullptr, counts), SPHRAY_OK);
+  EXPECT_EQ(sphray_intersect_all_masked(scene, rays, masks, 0, 0, nullptr, nullptr, counts),
+            SPHRAY_OK);
+  EXPECT_EQ(sphray_count_hits(scene, rays, nullptr, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_count_hits_masked(scene, nullptr, nullptr, counts, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_nearest(scene, nullptr, INFINITY, nullptr, 0), SPHRAY_OK);
+  EXPECT_EQ(sphray_inside(scene, nullptr, in, 0), SPHRAY_OK);
+  EXPECT_EQ(hits[0].t, 7.0f);
+  EXPECT_EQ(hits[0].id, 7u);
+  EXPECT_EQ(occluded[0], 7);
+  EXPECT_EQ(out[0].tmax, 7.0f);
+  EXPECT_EQ(counts[0], 7u);
+  EXPECT_EQ(in[0], 7);
+  // The scene is still checked.
+  expect_failure(sphray_intersect(nullptr, rays, hits, 0), SPHRAY_ERROR_NULL_POINTER,
+                 "sphray_intersect", "scene is NULL");
+  expect_failure(sphray_count_hits_masked(nullptr, rays, masks, counts, 0),
+                 SPHRAY_ERROR_NULL_POINTER, "sphray_count_hits_masked", "scene is NULL");
+  sphray_scene* released = nullptr;
+  ASSERT_EQ(sphray_scene_create(cx, cy, cz, r, 2, 0, SPHRAY_ACCEL_BRUTE, &released), SPHRAY_OK);
+  ASSERT_EQ(sphray_scene_release(released), SPHRAY_OK);
+  expect_failure(sphray_inside(released, nullptr, nullptr, 0), SPHRAY_ERROR_RELEASED_SCENE,
+                 "sphray_inside", "released");
+}
+
+// A scene of no spheres (the arrays may be NULL) answers every ray with a miss and every point
+// with nothing, whichever way it is built.
+TEST_F(CApiErrors, AnEmptySceneAnswersEveryQueryWithNothing) {
+  for (int accel : {SPHRAY_ACCEL_AUTO, SPHRAY_ACCEL_BRUTE, SPHRAY_ACCEL_BVH}) {
+    SCOPED_TRACE(accel);
+    sphray_scene* empty = nullptr;
+    ASSERT_EQ(sphray_scene_create(nullptr, nullptr, nullptr, nullptr, 0, 0, accel, &empty),
+              SPHRAY_OK)
+        << sphray_last_error();
+    std::size_t size = 9;
+    ASSERT_EQ(sphray_scene_size(empty, &size), SPHRAY_OK);
+    EXPECT_EQ(size, 0u);
+    sphray_ray bounded[2] = {rays[0], rays[1]};
+    bounded[1].tmax = 4;
+    sphray_hit h[2] = {{1, 1}, {1, 1}};
+    ASSERT_EQ(sphray_intersect(empty, bounded, h, 2), SPHRAY_OK);
+    EXPECT_EQ(h[0].id, SPHRAY_NO_HIT);
+    EXPECT_EQ(h[0].t, INFINITY);  // a miss: t is the ray's tmax
+    EXPECT_EQ(h[1].id, SPHRAY_NO_HIT);
+    EXPECT_EQ(h[1].t, 4.0f);
+    unsigned char blocked[2] = {1, 1};
+    ASSERT_EQ(sphray_occluded(empty, bounded, blocked, 2), SPHRAY_OK);
+    EXPECT_EQ(blocked[0] + blocked[1], 0);
+    std::size_t counts[2] = {5, 5};
+    ASSERT_EQ(sphray_count_hits(empty, bounded, counts, 2), SPHRAY_OK);
+    EXPECT_EQ(counts[0] + counts[1], 0u);
+    const float points[3] = {0, 0, 0};
+    sphray_nearest_sphere near[1] = {};
+    ASSERT_EQ(sphray_nearest(empty, points, INFINITY, near, 1), SPHRAY_OK);
+    EXPECT_EQ(near[0].id, SPHRAY_NO_HIT);
+    unsigned char in[1] = {1};
+    ASSERT_EQ(sphray_inside(empty, points, in, 1), SPHRAY_OK);
+    EXPECT_EQ(in[0], 0);
+    std::size_t total = 9;
+    ASSERT_EQ(sphray_overlapping(empty, points, 100.0f, nullptr, 0, &total), SPHRAY_OK);
+    EXPECT_EQ(total, 0u);
+    EXPECT_EQ(sphray_scene_refit(empty, nullptr, nullptr, nullptr, nullptr, 0, 0), SPHRAY_OK);
+    expect_failure(sphray_scene_refit(empty, cx, cy, cz, r, 2, 0), SPHRAY_ERROR_INVALID_ARGUMENT,
+                   "sphray_scene_refit", "count differs");
+    ASSERT_EQ(sphray_scene_release(empty), SPHRAY_OK);
+  }
+}
+
 TEST_F(CApiErrors, TheMessageBelongsToTheThreadThatFailed) {
-  expect_failure(sphray_intersect(scene, rays, hits, 0), SPHRAY_ERROR_INVALID_ARGUMENT,
-                 "sphray_intersect", "count is 0");
+  expect_failure(sphray_intersect(scene, nullptr, hits, 2), SPHRAY_ERROR_NULL_POINTER,
+                 "sphray_intersect", "rays is NULL");
   std::string other;
   std::thread([&] {
     other = sphray_last_error();  // nothing failed on this thread yet
     sphray_spawn(nullptr, dirs, nullptr, 1);
   }).join();
   EXPECT_EQ(other, "");
-  EXPECT_EQ(std::string(sphray_last_error()), "sphray_intersect: count is 0");
+  EXPECT_EQ(std::string(sphray_last_error()), "sphray_intersect: rays is NULL");
   // A success leaves the message as it was.
   ASSERT_EQ(sphray_intersect(scene, rays, hits, 2), SPHRAY_OK);
-  EXPECT_EQ(std::string(sphray_last_error()), "sphray_intersect: count is 0");
+  EXPECT_EQ(std::string(sphray_last_error()), "sphray_intersect: rays is NULL");
 }
 
 // Out of memory, for real: a child process whose address space is capped just above what it

@@ -12,6 +12,8 @@
  * functions only check their arguments and forward to it. Every function that can fail
  * returns SPHRAY_OK (0) or one of the error codes below and then sets a message for the
  * calling thread (sphray_last_error()); none throws, aborts or crashes on bad arguments.
+ * Empty work is success: a count of 0 reads and writes nothing (its arrays may be NULL; the
+ * scene must still be live), and a scene of 0 spheres answers every ray with a miss.
  * Threading: any number of threads may query the same scene at once; create, refit and
  * release must not run concurrently with anything else on the same scene.
  * ABI: docs/kernel.md, "From C and other languages"; the library's SONAME is libsphray.so.0. */
@@ -30,7 +32,7 @@ extern "C" {
 /* Status codes. Values never change; new codes may be added. */
 #define SPHRAY_OK 0
 #define SPHRAY_ERROR_NULL_POINTER 1     /* a required pointer argument is NULL */
-#define SPHRAY_ERROR_INVALID_ARGUMENT 2 /* a count of 0, a bad stride, accel or alignment */
+#define SPHRAY_ERROR_INVALID_ARGUMENT 2 /* a bad stride, accel, alignment or count */
 #define SPHRAY_ERROR_TOO_LARGE 3        /* a count over the library's limits */
 #define SPHRAY_ERROR_OUT_OF_MEMORY 4    /* an allocation failed; nothing was changed */
 #define SPHRAY_ERROR_RELEASED_SCENE 5   /* the scene handle was released */
@@ -96,8 +98,9 @@ SPHRAY_API const char* sphray_status_name(int status);
 /* Copies count spheres into a new scene: sphere i has centre (cx[i], cy[i], cz[i]), radius r[i]
  * and id i. stride_bytes is the distance between consecutive values of each array: 0 for
  * packed floats (4), or e.g. sizeof(struct my_sphere) to read an array of structures through
- * pointers to the first one's fields. The arrays may be freed after the call. Errors: NULL
- * pointer (any argument), invalid argument (count 0, stride not 0 and not a positive multiple
+ * pointers to the first one's fields. The arrays may be freed after the call; with count 0 they
+ * may be NULL (an empty scene: every ray misses). Errors: NULL pointer (any argument but those
+ * arrays of an empty scene), invalid argument (stride not 0 and not a positive multiple
  * of 4, a pointer not aligned for float, accel unknown), too large (count over 2^32 - 1, the
  * ids' range, or a tree that does not fit), out of memory. On failure *out is untouched. */
 SPHRAY_API int sphray_scene_create(const float* cx, const float* cy, const float* cz,

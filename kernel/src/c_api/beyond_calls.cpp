@@ -36,6 +36,7 @@ std::size_t crossings(const Scene& scene, const Ray& ray, std::span<Hit> slots,
 int intersect_all(const sphray_scene* scene, const sphray_ray* rays, const std::uint32_t* masks,
                   size_t count, size_t max_hits, sphray_hit* hits, unsigned char* exits,
                   size_t* counts, const char* function) {
+  if (count == 0) return check_scene(scene, function);  // empty work
   if (int status = check_query(scene, rays, counts, count, function); status != SPHRAY_OK)
     return status;
   if (max_hits > 0) {
@@ -68,6 +69,7 @@ int intersect_all(const sphray_scene* scene, const sphray_ray* rays, const std::
 
 int count_hits(const sphray_scene* scene, const sphray_ray* rays, const std::uint32_t* masks,
                size_t* counts, size_t count, const char* function) {
+  if (count == 0) return check_scene(scene, function);  // empty work
   if (int status = check_query(scene, rays, counts, count, function); status != SPHRAY_OK)
     return status;
   return guarded(function, [&] {
@@ -96,6 +98,7 @@ int sphray_intersect_all_masked(const sphray_scene* scene, const sphray_ray* ray
                                 const uint32_t* masks, size_t count, size_t max_hits,
                                 sphray_hit* hits, unsigned char* exits, size_t* counts) {
   constexpr const char* kFunction = "sphray_intersect_all_masked";
+  if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_pointer(masks, kFunction, "masks is NULL"); status != SPHRAY_OK)
     return status;
   return intersect_all(scene, rays, masks, count, max_hits, hits, exits, counts, kFunction);
@@ -109,6 +112,7 @@ int sphray_count_hits(const sphray_scene* scene, const sphray_ray* rays, size_t*
 int sphray_count_hits_masked(const sphray_scene* scene, const sphray_ray* rays,
                              const uint32_t* masks, size_t* counts, size_t count) {
   constexpr const char* kFunction = "sphray_count_hits_masked";
+  if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_pointer(masks, kFunction, "masks is NULL"); status != SPHRAY_OK)
     return status;
   return count_hits(scene, rays, masks, counts, count, kFunction);
@@ -117,6 +121,7 @@ int sphray_count_hits_masked(const sphray_scene* scene, const sphray_ray* rays,
 int sphray_nearest(const sphray_scene* scene, const float* points, float max_distance,
                    sphray_nearest_sphere* out, size_t count) {
   constexpr const char* kFunction = "sphray_nearest";
+  if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_query(scene, points, out, count, kFunction); status != SPHRAY_OK)
     return status;
   return guarded(kFunction, [&] {
@@ -133,6 +138,7 @@ int sphray_nearest(const sphray_scene* scene, const float* points, float max_dis
 int sphray_inside(const sphray_scene* scene, const float* points, unsigned char* inside,
                   size_t count) {
   constexpr const char* kFunction = "sphray_inside";
+  if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_query(scene, points, inside, count, kFunction); status != SPHRAY_OK)
     return status;
   return guarded(kFunction, [&] {

@@ -70,6 +70,7 @@ extern "C" {
 int sphray_intersect(const sphray_scene* scene, const sphray_ray* rays, sphray_hit* hits,
                      size_t count) {
   constexpr const char* kFunction = "sphray_intersect";
+  if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_query(scene, rays, hits, count, kFunction); status != SPHRAY_OK)
     return status;
   return guarded(kFunction, [&] {
@@ -81,6 +82,7 @@ int sphray_intersect(const sphray_scene* scene, const sphray_ray* rays, sphray_h
 int sphray_intersect_arrays(const sphray_scene* scene, const sphray_ray_arrays* rays, float* t,
                             uint32_t* id, size_t count) {
   constexpr const char* kFunction = "sphray_intersect_arrays";
+  if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_query(scene, rays, t, count, kFunction); status != SPHRAY_OK)
     return status;
   if (int status = check_pointer(id, kFunction, "id is NULL"); status != SPHRAY_OK) return status;
@@ -100,6 +102,7 @@ int sphray_intersect_arrays(const sphray_scene* scene, const sphray_ray_arrays* 
 int sphray_occluded(const sphray_scene* scene, const sphray_ray* rays, unsigned char* occluded,
                     size_t count) {
   constexpr const char* kFunction = "sphray_occluded";
+  if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_query(scene, rays, occluded, count, kFunction); status != SPHRAY_OK)
     return status;
   return guarded(kFunction, [&] {
@@ -111,6 +114,7 @@ int sphray_occluded(const sphray_scene* scene, const sphray_ray* rays, unsigned 
 int sphray_intersect_masked(const sphray_scene* scene, const sphray_ray* rays,
                             const uint32_t* masks, sphray_hit* hits, size_t count) {
   constexpr const char* kFunction = "sphray_intersect_masked";
+  if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_query(scene, rays, hits, count, kFunction); status != SPHRAY_OK)
     return status;
   if (int status = check_pointer(masks, kFunction, "masks is NULL"); status != SPHRAY_OK)
@@ -124,6 +128,7 @@ int sphray_intersect_masked(const sphray_scene* scene, const sphray_ray* rays,
 int sphray_occluded_masked(const sphray_scene* scene, const sphray_ray* rays, const uint32_t* masks,
                            unsigned char* occluded, size_t count) {
   constexpr const char* kFunction = "sphray_occluded_masked";
+  if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_query(scene, rays, occluded, count, kFunction); status != SPHRAY_OK)
     return status;
   if (int status = check_pointer(masks, kFunction, "masks is NULL"); status != SPHRAY_OK)
@@ -137,6 +142,7 @@ int sphray_occluded_masked(const sphray_scene* scene, const sphray_ray* rays, co
 int sphray_intersect_parallel(const sphray_scene* scene, const sphray_ray* rays, sphray_hit* hits,
                               size_t count, unsigned threads) {
   constexpr const char* kFunction = "sphray_intersect_parallel";
+  if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_query(scene, rays, hits, count, kFunction); status != SPHRAY_OK)
     return status;
   return guarded(kFunction, [&] {
@@ -151,6 +157,7 @@ int sphray_intersect_parallel(const sphray_scene* scene, const sphray_ray* rays,
 int sphray_occluded_parallel(const sphray_scene* scene, const sphray_ray* rays,
                              unsigned char* occluded, size_t count, unsigned threads) {
   constexpr const char* kFunction = "sphray_occluded_parallel";
+  if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_query(scene, rays, occluded, count, kFunction); status != SPHRAY_OK)
     return status;
   return guarded(kFunction, [&] {
@@ -165,6 +172,7 @@ int sphray_occluded_parallel(const sphray_scene* scene, const sphray_ray* rays,
 int sphray_surface(const sphray_scene* scene, const sphray_ray* rays, const sphray_hit* hits,
                    sphray_hit_surface* surfaces, size_t count) {
   constexpr const char* kFunction = "sphray_surface";
+  if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_query(scene, rays, surfaces, count, kFunction); status != SPHRAY_OK)
     return status;
   if (int status = check_pointer(hits, kFunction, "hits is NULL"); status != SPHRAY_OK)
@@ -182,6 +190,7 @@ int sphray_surface(const sphray_scene* scene, const sphray_ray* rays, const sphr
 int sphray_spawn(const sphray_hit_surface* surfaces, const float* dirs, sphray_ray* rays,
                  size_t count) {
   constexpr const char* kFunction = "sphray_spawn";
+  if (count == 0) return SPHRAY_OK;  // empty work: nothing read, nothing written
   int status = check_pointer(surfaces, kFunction, "surfaces is NULL");
   if (status == SPHRAY_OK) status = check_pointer(dirs, kFunction, "dirs is NULL");
   if (status == SPHRAY_OK) status = check_pointer(rays, kFunction, "rays is NULL");

@@ -24,9 +24,9 @@ float read(const float* base, std::size_t i, std::size_t stride) {
 }  // namespace
 
 int check(const SphereArrays& a, const char* function) noexcept {
+  if (a.count == 0) return SPHRAY_OK;  // no spheres: nothing is read, the arrays may be NULL
   if (a.cx == nullptr || a.cy == nullptr || a.cz == nullptr || a.r == nullptr)
     return fail(SPHRAY_ERROR_NULL_POINTER, function, "a sphere array (cx, cy, cz or r) is NULL");
-  if (a.count == 0) return fail(SPHRAY_ERROR_INVALID_ARGUMENT, function, "count is 0");
   if (a.count > kMaxSpheres)
     return fail(SPHRAY_ERROR_TOO_LARGE, function, "count exceeds 2^32 - 1 spheres");
   if (a.stride_bytes % sizeof(float) != 0)
