@@ -10,6 +10,7 @@
 #            -DLIBDIR=<lib> -DCC=<C compiler> -DEXAMPLE=<docs/examples/c/render_normals.c>
 #            -DEXTRA_FLAGS=<the build's compiler and linker flags>
 #            -DHEADER_DIR=<kernel/include/sphray> -DNEED_TOOLS=<ON if the command is built>
+#            -DSCENE_DIR=<render/scenes>
 cmake_policy(SET CMP0054 NEW)  # "quoted" strings in if() are strings
 include(${CMAKE_CURRENT_LIST_DIR}/script_steps.cmake)
 fresh_work_dir()
@@ -26,7 +27,10 @@ set(files_libsphray-dev ${headers} ./usr/include/sphray/version.hpp
     ./${lib}/libsphray.so ./${lib}/libsphray.a ./${lib}/pkgconfig/sphray.pc
     ./${lib}/cmake/sphray/sphrayConfig.cmake ./${lib}/cmake/sphray/sphrayConfigVersion.cmake
     ./${lib}/cmake/sphray/sphrayTargets.cmake ./${lib}/cmake/sphray/sphrayTargets-CONFIG.cmake)
-set(files_sphray ./usr/bin/sphray)
+# sphray: the command and the example scenes.
+file(GLOB scenes RELATIVE ${SCENE_DIR} ${SCENE_DIR}/*.json)
+list(TRANSFORM scenes PREPEND ./usr/share/sphray/scenes/)
+set(files_sphray ./usr/bin/sphray ${scenes})
 foreach(package libsphray0 libsphray-dev sphray)
   file(GLOB deb ${WORK_DIR}/${package}_${VERSION}_*.deb)
   if(NOT deb)
