@@ -49,6 +49,15 @@ class Scene:
         ids: _ArrayLike,
     ) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32], npt.NDArray[np.bool_]]:
         """(points, outward unit normals, front_face) where each ray meets its hit."""
+    def spawn(
+        self,
+        origins: _ArrayLike,
+        directions: _ArrayLike,
+        t: _ArrayLike,
+        ids: _ArrayLike,
+        new_directions: _ArrayLike,
+    ) -> npt.NDArray[np.float32]:
+        """Origins of rays leaving each hit towards new_directions (sphray::spawn)."""
     def intersect_all(
         self,
         origins: _ArrayLike,

@@ -92,6 +92,16 @@ from the ray's t); normals: float32 (M, 3), the outward unit normals; front_face
 True where the ray arrived from outside. For a miss (ids == NO_HIT, or an id of no sphere):
 the point origin + t * direction, a zero normal and front_face False.)doc";
 
+constexpr const char* kSpawnDoc =
+    R"doc(spawn(origins, directions, t, ids, new_directions) -> origins
+
+Where rays leaving each hit towards new_directions start: the hit point moved along the normal,
+to new_directions' side, just past the point's computed rounding error (sphray.spawn() in C++,
+docs/kernel.md, "Leaving a surface"). A ray from there with direction new_directions never meets
+the same sphere again on the side it leaves, at any scale; a fixed offset such as
+points + 1e-3 * normals does, or skips thin gaps. origins, directions, t and ids as for
+surface(); new_directions: (M, 3). Returns float32 (M, 3). For a miss: surface()'s point.)doc";
+
 constexpr const char* kIntersectAllDoc =
     R"doc(intersect_all(origins, directions, max_hits=16, tmin=0.0, tmax=inf, mask=0xffffffff)
 
@@ -196,6 +206,8 @@ PYBIND11_MODULE(sphray, m) {
            kOccludedDoc)
       .def("surface", &Scene::surface, py::arg("origins"), py::arg("directions"), py::arg("t"),
            py::arg("ids"), kSurfaceDoc)
+      .def("spawn", &Scene::spawn, py::arg("origins"), py::arg("directions"), py::arg("t"),
+           py::arg("ids"), py::arg("new_directions"), kSpawnDoc)
       .def("intersect_all", &Scene::intersect_all, py::arg("origins"), py::arg("directions"),
            py::arg("max_hits") = 16, py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY,
            py::arg("mask") = sphray::kAllBits, kIntersectAllDoc)

@@ -39,11 +39,12 @@ void for_each_chunk(std::size_t count, const Chunk& chunk) {
 }
 
 /// The directions of a batch, checked against its origins' shape.
-inline Vec3Rows directions_like(const Vec3Rows& origins, const py::handle& directions) {
-  Vec3Rows d("directions", directions);
+inline Vec3Rows directions_like(const Vec3Rows& origins, const py::handle& directions,
+                                const std::string& name = "directions") {
+  Vec3Rows d(name.c_str(), directions);
   if (d.leading_shape() != origins.leading_shape()) {
-    throw py::value_error("directions: expected the shape of origins " + origins.shape() +
-                          ", got " + d.shape());
+    throw py::value_error(name + ": expected the shape of origins " + origins.shape() + ", got " +
+                          d.shape());
   }
   return d;
 }

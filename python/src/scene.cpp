@@ -103,6 +103,31 @@ py::tuple Scene::surface(const py::handle& origins, const py::handle& directions
   return py::make_tuple(points, normals, front);
 }
 
+py::array Scene::spawn(const py::handle& origins, const py::handle& directions, const py::handle& t,
+                       const py::handle& ids, const py::handle& new_directions) const {
+  const Vec3Rows o("origins", origins);
+  const Vec3Rows d = directions_like(o, directions);
+  const Vec3Rows next = directions_like(o, new_directions, "new_directions");
+  FloatPerRow hit_t("t", t, o.leading_shape());
+  const std::vector<std::uint32_t> hit_ids = ids_per_row("ids", ids, o.leading_shape());
+  auto spawned = new_array<float>(o.leading_shape(), {3});
+  float* out = spawned.mutable_data();
+  {
+    py::gil_scoped_release release;
+    std::shared_lock lock(mutex_);
+    const SphereView view = spheres_.view();
+    for_each_chunk(o.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const Surface s = sphray::surface(view, Ray{o[i], d[i]}, Hit{hit_t[i], hit_ids[i]});
+        const Vec3 p = sphray::offset_origin(s, next[i]);
+        for (int k = 0; k < 3; ++k)
+          out[3 * i + k] = p[k];
+      }
+    });
+  }
+  return spawned;
+}
+
 void Scene::trace(std::span<const Ray> rays, std::span<Hit> hits) const {
   answer([&](const auto& spheres) { sphray::intersect(spheres, rays, hits); });
 }

@@ -38,6 +38,10 @@ class Scene {
   /// (points, normals, front_face) where each ray meets its hit.
   py::tuple surface(const py::handle& origins, const py::handle& directions, const py::handle& t,
                     const py::handle& ids) const;
+  /// The origins of rays leaving each hit towards new_directions: sphray::spawn() of the hit's
+  /// surface, so that they never meet that sphere again on the wrong side.
+  py::array spawn(const py::handle& origins, const py::handle& directions, const py::handle& t,
+                  const py::handle& ids, const py::handle& new_directions) const;
   /// Every crossing of each ray (docs/queries.md): (t, ids, exits, counts), the first max_hits
   /// crossings per ray sorted by t in (..., max_hits) arrays, unused slots t = NaN and
   /// id = NO_HIT, and each ray's total count.

@@ -155,3 +155,48 @@ def test_refit(rng, accel):
     t, ids = scene.intersect(origins, directions)
     _, ids_ref, undecidable = ref.intersect(moved, bigger, origins, directions)
     np.testing.assert_array_equal(ids[~undecidable], ids_ref[~undecidable])
+
+
+@pytest.mark.parametrize("accel", ACCELS)
+@pytest.mark.parametrize("scale", [1.0, 1e3, 1e5])
+def test_spawn_leaves_the_surface_to_the_side_asked(rng, accel, scale):
+    """Rays from spawn() origins never meet their own sphere again when they leave outward, and
+    meet its far side when they go in, at every scale: the check the offsets 1e-3 * normals of
+    docs/kernel.md fail at large scales. Inside or outside is decided in float64 by numpy."""
+    n = 2000
+    centers = (rng.uniform(-1, 1, size=(50, 3)) * scale).astype(np.float32)
+    radii = (1e-2 * scale * rng.uniform(0.5, 2, size=50)).astype(np.float32)  # apart
+    scene = sphray.Scene(centers, radii, accel=accel)
+    which = rng.integers(0, 50, size=n)
+    target = centers[which].astype(np.float64)
+    origins = (target + rng.normal(size=(n, 3)) * 4 * radii[which, None]).astype(np.float32)
+    directions = (target - origins).astype(np.float32)
+    t, ids = scene.intersect(origins, directions)
+    hit = ids != sphray.NO_HIT
+    assert hit.mean() > 0.5
+    points, normals, _ = scene.surface(origins, directions, t, ids)
+    # Outward: a random direction of the normal's hemisphere. Inward: straight on.
+    out_dirs = rng.normal(size=(n, 3)).astype(np.float32)
+    out_dirs *= np.sign(np.sum(out_dirs * normals, axis=1))[:, None]
+    entering = hit & (np.sum(directions * normals, axis=1) < 0)  # arrived from outside
+    assert entering.sum() > n / 4
+    for new_dirs, outward, rows in ((out_dirs, True, hit), (directions, False, entering)):
+        start = scene.spawn(origins, directions, t, ids, new_dirs)
+        assert start.shape == (n, 3) and start.dtype == np.float32
+        c = centers[ids[rows]].astype(np.float64)
+        gap = np.linalg.norm(start[rows].astype(np.float64) - c, axis=1) - radii[ids[rows]]
+        assert (gap > 0).all() if outward else (gap < 0).all()
+        _, ids2 = scene.intersect(start, new_dirs)
+        if outward:
+            assert not np.any(ids2[rows] == ids[rows])
+        else:
+            np.testing.assert_array_equal(ids2[rows], ids[rows])  # its far side
+    # A miss gives surface()'s point.
+    np.testing.assert_array_equal(start[~hit], points[~hit])
+
+
+def test_spawn_checks_its_arrays(rng):
+    scene = sphray.Scene(np.zeros((1, 3), np.float32), np.ones(1, np.float32))
+    o = np.zeros((4, 3), np.float32)
+    with pytest.raises(ValueError, match="new_directions: expected the shape of origins"):
+        scene.spawn(o, o, np.ones(4, np.float32), np.zeros(4, np.uint32), np.zeros((3, 3)))

@@ -25,8 +25,10 @@ int main() {
       continue;
     }
     const sphray::Surface s = sphray::surface(spheres.view(), rays[i], hits[i]);
-    // A shadow ray towards a light straight above, starting just off the surface.
-    const sphray::Ray shadow{s.point + 1e-4f * s.normal, {0, 1, 0}};
+    // A shadow ray towards a light straight above. spawn() starts it just past the hit point's
+    // rounding error, so that it never meets the sphere it leaves (a fixed offset such as
+    // 1e-4 * normal fails at some scale: docs/kernel.md, "Leaving a surface").
+    const sphray::Ray shadow = sphray::spawn(s, {0, 1, 0});
     std::printf("ray %zu: sphere %u at t = %g, normal (%g, %g, %g), %s\n", i, hits[i].id, hits[i].t,
                 s.normal.x, s.normal.y, s.normal.z,
                 sphray::occluded(spheres.view(), shadow) ? "in shadow" : "lit");

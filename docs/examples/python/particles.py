@@ -42,9 +42,11 @@ def render(positions, radii, width, height):
     light = np.array([0.5, 1.0, 0.3], np.float32)
     light /= np.linalg.norm(light)
     facing = np.clip(normals @ light, 0, None)
-    # Shadow rays leave just off the surface, along the normal, towards the light.
-    shadow_origins = points + 1e-3 * normals
-    lit = ~scene.occluded(shadow_origins, np.broadcast_to(light, points.shape))
+    # Shadow rays towards the light start where spawn() puts them: just past each hit point's
+    # rounding error, so that they never meet the particle they leave (docs/kernel.md).
+    towards_light = np.broadcast_to(light, points.shape)
+    shadow_origins = scene.spawn(origins, directions, t, ids, towards_light)
+    lit = ~scene.occluded(shadow_origins, towards_light)
 
     # Colour by the particle's distance from the centre of the cloud, like a density map.
     r = np.linalg.norm(positions, axis=1)
