@@ -776,6 +776,67 @@ def plot_speedup(res, path):
     plt.close(fig)
 
 
+# --- the Python module against numpy (bench/python_vs_numpy.py) --------------------------
+
+NUMPY_TRACERS = [("numpy_rays_per_s", "numpy, vectorised quadratic (1 thread)"),
+                 ("c_one_thread_rays_per_s", "sphray C API, sphray_intersect (1 thread)"),
+                 ("module_rays_per_s", "sphray Python module, Scene.intersect (all threads)"),
+                 ("c_parallel_rays_per_s", "sphray C API, sphray_intersect_parallel (all threads)")]
+
+
+def numpy_section(data, plot):
+    ctx, rows = data.get("context", {}), data.get("rows", [])
+    if not rows:
+        return ""
+    out = ["## The Python module against numpy", "",
+           "What a Python user can run here that finds the hits: numpy written the way a scientist",
+           "vectorises the ray/sphere quadratic (every ray of a chunk against every sphere, the near",
+           "root unless it lies behind the origin; numpy's element-wise operations run on one thread),",
+           "against `sphray.Scene.intersect`, and against sphray's C stream calls on the same arrays",
+           "through ctypes (one call: what the module adds to them is the binding's cost). Rays: "
+           f"{ctx.get('rays', 0):,} random rays",
+           "(origins uniform in the 100-unit box, directions uniform) into N random spheres (the `random:N`",
+           "recipe); numpy is given 2^24 sphere tests a scene, so 2^24 / N of the same rays. Best of "
+           f"{ctx.get('repeats', '?')};",
+           f"Python {ctx.get('python', '?')}, numpy {ctx.get('numpy', '?')}, sphray on "
+           f"{ctx.get('sphray_isa', '?')}, {ctx.get('threads', '?')} threads, {ctx.get('cpu', '?')}.",
+           f"Command: `{ctx.get('command', 'bench/python_vs_numpy.py')}` ({ctx.get('date', '')}).", ""]
+    header = ["spheres"] + [label for _, label in NUMPY_TRACERS] + [
+        "module / numpy", "module / C parallel", "numpy agrees"]
+    body = []
+    for r in rows:
+        body.append([f"{r['spheres']:,}"] + [fmt_rate(r[key]) for key, _ in NUMPY_TRACERS] + [
+            fmt_ratio(r["module_rays_per_s"] / r["numpy_rays_per_s"]),
+            fmt_ratio(r["module_rays_per_s"] / r["c_parallel_rays_per_s"]),
+            f"{r['numpy_agreement']:.2%} of {r['numpy_rays']:,} rays"])
+    out += [table(header, body), "",
+            "The module's hits are the C API's, bit for bit (checked in the run). numpy's float32",
+            "quadratic is not the kernel's precision-safe one: where they differ, it is on",
+            "near-tangent rays and ties (the run fails below 99.9% agreement).", "",
+            f"![sphray against numpy, rays per second]({plot})"]
+    return "\n".join(out)
+
+
+def plot_numpy(data, path):
+    rows = data.get("rows", [])
+    if not rows:
+        return
+    fig, ax = plt.subplots(figsize=(7, 4.4))
+    width = 0.8 / len(NUMPY_TRACERS)
+    for k, (key, label) in enumerate(NUMPY_TRACERS):
+        ax.bar([i + k * width for i in range(len(rows))], [r[key] for r in rows], width, label=label)
+    ax.set_yscale("log")
+    ax.set_xticks([i + width * (len(NUMPY_TRACERS) - 1) / 2 for i in range(len(rows))])
+    ax.set_xticklabels([f"{r['spheres']:,} spheres" for r in rows])
+    ax.set_ylabel("rays per second")
+    ax.set_title("Python: numpy's quadratic, sphray's module and its C calls")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, fontsize="small")
+    ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 # --- the Python module against Open3D (bench/python_vs_open3d.py) -------------------------
 
 TARGET_OVER_OPEN3D = 10.0  # issue 14: at the coarsest tessellation
@@ -920,23 +981,34 @@ OPEN3D_HEADING = "## The Python module against Open3D"
 OPEN3D_BEFORE = "## Cycles per batch"  # where main() places the section
 
 
-def update_open3d_section(docs, data):
-    """Replaces (or inserts) the Open3D section of an existing page, and its plot: for a run of
-    bench/python_vs_open3d.py alone (bench/run.sh --open3d-only)."""
+NUMPY_HEADING = "## The Python module against numpy"
+
+
+def update_section(docs, heading, section, before=OPEN3D_BEFORE):
+    """Replaces (or inserts before `before`) one section of an existing page: for a run of the
+    Python comparisons alone (bench/run.sh --python-only)."""
     page_path = docs / "performance.md"
     page = page_path.read_text()
-    images = docs / "images"
-    images.mkdir(parents=True, exist_ok=True)
-    plot_open3d(data, images / "perf-python-open3d.png")
-    section = open3d_section(data, "images/perf-python-open3d.png")
-    start = page.find(OPEN3D_HEADING)
+    start = page.find(heading)
     if start < 0:
-        start = end = page.find(OPEN3D_BEFORE) if OPEN3D_BEFORE in page else len(page)
+        start = end = page.find(before) if before in page else len(page)
     else:
-        nxt = page.find("\n## ", start + len(OPEN3D_HEADING))
+        nxt = page.find("\n## ", start + len(heading))
         end = nxt + 1 if nxt >= 0 else len(page)
     page_path.write_text(page[:start] + section + "\n\n" + page[end:].lstrip("\n"))
-    print(f"updated the Open3D section of {page_path} and {images}/perf-python-open3d.png")
+    print(f"updated \"{heading[3:]}\" in {page_path}")
+
+
+def update_python_sections(docs, numpy_data, open3d_data):
+    images = docs / "images"
+    images.mkdir(parents=True, exist_ok=True)
+    if numpy_data:
+        plot_numpy(numpy_data, images / "perf-python-numpy.png")
+        update_section(docs, NUMPY_HEADING, numpy_section(numpy_data, "images/perf-python-numpy.png"),
+                       before=OPEN3D_HEADING)
+    if open3d_data:
+        plot_open3d(open3d_data, images / "perf-python-open3d.png")
+        update_section(docs, OPEN3D_HEADING, open3d_section(open3d_data, "images/perf-python-open3d.png"))
 
 
 # Measurements of single changes, each made with its own command (`sphray bench`, or sphray_bench
@@ -959,11 +1031,14 @@ def main(argv):
     ap.add_argument("--docs", type=Path, default=HERE.parent / "docs", help="the docs folder to write into")
     ap.add_argument("--command", default="bench/run.sh", help="the command that made the run, for the page")
     ap.add_argument("--open3d", type=Path, help="output of bench/python_vs_open3d.py, for its section")
+    ap.add_argument("--numpy", type=Path, help="output of bench/python_vs_numpy.py, for its section")
     args = ap.parse_args(argv)
+    numpy_data = json.loads(args.numpy.read_text()) if args.numpy and args.numpy.exists() else {}
+    open3d = json.loads(args.open3d.read_text()) if args.open3d and args.open3d.exists() else {}
     if args.json is None:
-        if not args.open3d:
-            ap.error("give the sphray_bench JSON, or --open3d to update that section alone")
-        update_open3d_section(args.docs, json.loads(args.open3d.read_text()))
+        if not numpy_data and not open3d:
+            ap.error("give the sphray_bench JSON, or --numpy and/or --open3d to update those sections")
+        update_python_sections(args.docs, numpy_data, open3d)
         return
 
     data = json.loads(args.json.read_text())
@@ -975,7 +1050,7 @@ def main(argv):
     for kind in KINDS:
         plot_rates(res, kind, images / f"perf-rays-{kind}.png")
     plot_speedup(res, images / "perf-speedup.png")
-    open3d = json.loads(args.open3d.read_text()) if args.open3d and args.open3d.exists() else {}
+    plot_numpy(numpy_data, images / "perf-python-numpy.png")
     plot_open3d(open3d, images / "perf-python-open3d.png")
 
     sections = [
@@ -992,6 +1067,7 @@ def main(argv):
         bounce_section(res),
         queries_section(res),
         build_table(res),
+        numpy_section(numpy_data, "images/perf-python-numpy.png"),
         open3d_section(open3d, "images/perf-python-open3d.png"),
         HISTORY_POINTER,
         cycles_section(res),

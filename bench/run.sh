@@ -3,31 +3,33 @@
 #
 #   bench/run.sh                      # configure and build the release preset, then run
 #   bench/run.sh path/to/sphray_bench [more Google Benchmark flags]
-#   bench/run.sh --open3d-only        # the Python module against Open3D alone: rewrites only
-#                                     # that section of docs/performance.md and its plot
+#   bench/run.sh --python-only        # the Python comparisons alone: rewrites only their
+#                                     # sections of docs/performance.md and their plots
 #
 # A full run takes several minutes on a 2-core machine; run it on a quiet one.
 #
-# The Python module against Open3D (bench/python_vs_open3d.py) runs too, with the module from
-# build/release/python (SPHRAY_PYTHON_DIR overrides); bench/install-open3d installs Open3D
-# first unless SPHRAY_BENCH_NO_INSTALL=1. Without Open3D or the module, that section is left out.
+# The Python module against numpy (bench/python_vs_numpy.py) and against Open3D
+# (bench/python_vs_open3d.py) run too, with the module from build/release/python
+# (SPHRAY_PYTHON_DIR overrides); bench/install-open3d installs Open3D first unless
+# SPHRAY_BENCH_NO_INSTALL=1. Without Open3D or the module, that section is left out.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 
-open3d_only=0
-if [[ ${1:-} == --open3d-only ]]; then
-  open3d_only=1
+python_only=0
+if [[ ${1:-} == --python-only ]]; then
+  python_only=1
   shift
   cmake --preset release
-  cmake --build --preset release --target sphray_python
+  cmake --build --preset release --target sphray_python sphray_kernel_shared
 elif [[ $# -ge 1 && -x $1 ]]; then
   bench=$1
   shift
 else
   cmake --preset release
   cmake --build --preset release --target sphray_bench
-  cmake --build --preset release --target sphray_python || true   # absent without pybind11
+  cmake --build --preset release --target sphray_python sphray_kernel_shared ||
+    true   # absent without pybind11
   bench=build/release/bench/sphray_bench
 fi
 
@@ -41,15 +43,26 @@ out_dir=${SPHRAY_BENCH_OUT:-build/bench-results}
 mkdir -p "$out_dir"
 json=$out_dir/sphray_bench.json
 flags=(--benchmark_min_time=0.2 --benchmark_repetitions=3 --benchmark_report_aggregates_only=true)
-if [[ $open3d_only == 0 ]]; then
+if [[ $python_only == 0 ]]; then
   echo "bench/run.sh: $bench ${flags[*]} $*"
   "$bench" "${flags[@]}" "$@" --benchmark_out="$json" --benchmark_out_format=json
 fi
 
-# The Python module against Open3D, with the system Python (Debian's numpy and Open3D).
+# The Python module against numpy and sphray's C calls, then against Open3D, with the system
+# Python (Debian's numpy and Open3D).
+module_dir=${SPHRAY_PYTHON_DIR:-build/release/python}
+numpy_json=$out_dir/python_vs_numpy.json
+py_command="bench/run.sh"
+[[ $python_only == 0 ]] || py_command="bench/run.sh --python-only"
+rm -f "$numpy_json"
+if PYTHONPATH=$module_dir /usr/bin/python3 -c 'import sphray' 2>/dev/null; then
+  PYTHONPATH=$module_dir /usr/bin/python3 bench/python_vs_numpy.py --out "$numpy_json" \
+    --library build/release/kernel/libsphray.so.0 --command "$py_command"
+else
+  echo "bench/run.sh: the sphray module ($module_dir) is not importable; no numpy section"
+fi
 open3d_json=$out_dir/python_vs_open3d.json
 rm -f "$open3d_json"
-module_dir=${SPHRAY_PYTHON_DIR:-build/release/python}
 [[ ${SPHRAY_BENCH_NO_INSTALL:-0} == 1 ]] || bash bench/install-open3d || true
 if PYTHONPATH=$module_dir /usr/bin/python3 -c 'import open3d, sphray' 2>/dev/null; then
   PYTHONPATH=$module_dir /usr/bin/python3 bench/python_vs_open3d.py --out "$open3d_json"
@@ -57,9 +70,11 @@ else
   echo "bench/run.sh: Open3D or the sphray module ($module_dir) not importable; no Open3D section"
 fi
 
-if [[ $open3d_only == 1 ]]; then
-  [[ -f $open3d_json ]] || { echo "bench/run.sh: no Open3D results to report" >&2; exit 1; }
-  "$python" bench/report.py --open3d "$open3d_json"
+if [[ $python_only == 1 ]]; then
+  [[ -f $numpy_json || -f $open3d_json ]] ||
+    { echo "bench/run.sh: no Python results to report" >&2; exit 1; }
+  "$python" bench/report.py --numpy "$numpy_json" --open3d "$open3d_json"
 else
-  "$python" bench/report.py "$json" --open3d "$open3d_json" --command "bench/run.sh (${flags[*]}${*:+ $*})"
+  "$python" bench/report.py "$json" --numpy "$numpy_json" --open3d "$open3d_json" \
+    --command "bench/run.sh (${flags[*]}${*:+ $*})"
 fi
