@@ -81,7 +81,10 @@ def run_page(repo, page, where):
     root = scratch_root(repo, where)
     home = Path(where) / "home"
     home.mkdir()
-    script = ["set -eo pipefail"]
+    # Physical paths (set -P): a `cd build/release` through the mirror's link lands in the real
+    # build tree, so that CMake, which takes the logical working directory, never writes the
+    # mirror's paths into it.
+    script = ["set -eo pipefail -P"]
     ran, skipped = 0, []
     for line, text, reason in blocks(page):
         first = text.strip().splitlines()[0] if text.strip() else ""
@@ -101,7 +104,7 @@ def run_page(repo, page, where):
     code = result.returncode
     for line, command, expected in output_samples(page):
         print(f"--- {page.name}:{line}: $ {command}  (its output checked)", flush=True)
-        got = subprocess.run(["bash", "-c", command], cwd=root, env=env, text=True,
+        got = subprocess.run(["bash", "-P", "-c", command], cwd=root, env=env, text=True,
                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT).stdout
         ran += 1
         if normalised(got) != normalised(expected):
