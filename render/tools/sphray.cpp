@@ -239,8 +239,15 @@ void add_bench_options(CLI::App& bench, sphray::render::bench::BenchArgs& args) 
   bench.add_option("--threads,-j", args.threads, "Threads each row traces on")
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
-  bench.add_option("--seconds", args.seconds, "Seconds of passes over the rays per row")
+  bench
+      .add_option("--seconds", args.seconds,
+                  "Seconds of passes over the rays per row, shared among its repetitions")
       ->check(seconds_validator())
+      ->capture_default_str();
+  bench
+      .add_option("--repetitions", args.repetitions,
+                  "Times each row is timed: its rate is their median, its spread min to max")
+      ->check(CLI::Range(1, 1000))
       ->capture_default_str();
   bench.add_option("--json", args.json, "Also write the results as Google Benchmark JSON");
   bench.add_flag("--quiet,-q", args.quiet, "No progress line on stderr");
