@@ -196,10 +196,10 @@ int run_bench(const BenchArgs& args) {
   const std::vector<RayKind> kinds = ray_kinds(args.rays);
   const auto timed = static_cast<std::size_t>(
       std::count_if(rows.begin(), rows.end(), [](const Row& r) { return r.skipped.empty(); }));
-  const double estimate = estimate_seconds(timed * kinds.size(), args.seconds, args.repetitions);
+  const double estimate = estimate_seconds(timed * kinds.size(), args.seconds);
   std::printf(
-      "%zu rows to time (%zu per ray kind): %s at least, more where a pass over the rays or a "
-      "tree's build takes longer, or the machine is busy\n",
+      "%zu rows to time (%zu per ray kind): about %s, longer where a pass over the rays or a "
+      "tree's build is slow, or the machine is busy\n",
       timed * kinds.size(), timed, progress::duration_text(estimate).c_str());
   if (!context.load_average.empty()) {
     const std::string warning = load_warning(
@@ -216,7 +216,7 @@ int run_bench(const BenchArgs& args) {
   std::printf("\n");
   for (std::size_t k = 0; k < kinds.size(); ++k)
     std::printf("%s", recommendation(measured[k], ray_kind_name(kinds[k])).c_str());
-  std::printf("took %s in all (estimated: %s at least)\n",
+  std::printf("took %s in all (estimated: about %s)\n",
               progress::duration_text(seconds_since(start)).c_str(),
               progress::duration_text(estimate).c_str());
   std::fflush(stdout);

@@ -29,9 +29,8 @@ std::string slower(const Measured& best, const Measured& other) {
 
 }  // namespace
 
-double estimate_seconds(std::size_t timed_rows, double seconds_per_row, int repetitions) {
-  const double warm_up = seconds_per_row / std::max(1, repetitions);
-  return static_cast<double>(timed_rows) * (seconds_per_row + warm_up);
+double estimate_seconds(std::size_t timed_rows, double seconds_per_row) {
+  return static_cast<double>(timed_rows) * seconds_per_row;
 }
 
 std::string load_warning(double load_1min, unsigned cores, int threads) {

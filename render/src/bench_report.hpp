@@ -8,9 +8,10 @@
 
 namespace sphray::render::bench {
 
-/// The run's expected length before it starts: every timed row's seconds, plus its warm-up pass,
-/// guessed as long as one repetition's share (a tree's build and the rays' making come on top).
-double estimate_seconds(std::size_t timed_rows, double seconds_per_row, int repetitions);
+/// The run's expected length before it starts: every timed row's seconds. Its warm-up pass, its
+/// check, a tree's build and the rays' making come on top; they are short beside it unless a
+/// pass over the rays takes longer than a repetition's share of the seconds.
+double estimate_seconds(std::size_t timed_rows, double seconds_per_row);
 
 /// A warning when the load average over the last minute says other work takes turns on the
 /// cores this run's threads need (more than cores - threads + 0.5 runnable), else empty.
