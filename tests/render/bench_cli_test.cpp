@@ -104,6 +104,19 @@ TEST_F(BenchCli, EstimatesTheRunAndRecommendsACall) {
   EXPECT_EQ(r.out.find("(tree* "), std::string::npos) << r.out;
 }
 
+// On a terminal, stderr names the row in hand, of how many, with the time left; -q silences it.
+TEST_F(BenchCli, ShowsTheRowInHandAndTheTimeLeftOnATerminal) {
+  const Result r = sphray::test::run_sphray_on_terminal("bench -s three --rays camera --seconds 0");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("[1/"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("scalar brute force: checking ... "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" left"), std::string::npos) << r.out;
+  const Result quiet =
+      sphray::test::run_sphray_on_terminal("bench -s three --rays camera --seconds 0 -q");
+  ASSERT_EQ(quiet.status, 0) << quiet.out;
+  EXPECT_EQ(quiet.out.find("[1/"), std::string::npos) << quiet.out;
+}
+
 // Every row left out says so and why, on the console and in the JSON.
 TEST_F(BenchCli, SaysWhyItSkipsBruteForceOnLargeScenes) {
   const Result r = run("bench -s random:4097 --rays camera --seconds 0 --repetitions 1 -q --json " +
