@@ -2,14 +2,20 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <thread>
 #include <vector>
 
 #include "bench_json.hpp"
 #include "bench_rays.hpp"
+#include "bench_report.hpp"
 #include "bench_rows.hpp"
 #include "bench_timing.hpp"
+#include "progress_report.hpp"
 #include "sphray/render/scene.hpp"
 
 namespace sphray::render::bench {
@@ -24,9 +30,9 @@ std::vector<RayKind> ray_kinds(const std::string& rays) {
   return {RayKind::camera, RayKind::random};
 }
 
-std::string rate(double per_second) {
+std::string mrays(double per_second) {
   char text[32];
-  std::snprintf(text, sizeof text, "%9.2f Mrays/s", per_second / 1e6);
+  std::snprintf(text, sizeof text, "%.2f", per_second / 1e6);
   return text;
 }
 
@@ -37,25 +43,45 @@ std::string result_name(const Context& c, RayKind kind, const Row& row) {
   return c.scene + "/" + ray_kind_name(kind) + "/" + name + "/threads:" + std::to_string(c.threads);
 }
 
-// A transient line on a terminal's stderr while a row runs (its check and its passes).
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// A transient line on a terminal's stderr while a row runs: which row of how many, what it is
+// doing, the time so far and the time left (by the rows done so far, the estimate before).
 class Progress {
  public:
-  explicit Progress(bool enabled) : enabled_(enabled && ::isatty(STDERR_FILENO)) {}
+  Progress(bool enabled, std::size_t rows, double estimate)
+      : enabled_(enabled && ::isatty(STDERR_FILENO)), rows_(rows), estimate_(estimate) {}
   void show(const std::string& text) const {
-    if (enabled_) std::fprintf(stderr, "\r\033[K  %s ...", text.c_str());
+    if (!enabled_) return;
+    const double elapsed = seconds_since(start_);
+    const double left =
+        done_ > 0 ? elapsed / static_cast<double>(done_) * static_cast<double>(rows_ - done_)
+                  : std::max(0.0, estimate_ - elapsed);
+    std::fprintf(stderr, "\r\033[K  [%zu/%zu] %s ... %s elapsed, about %s left", done_ + 1, rows_,
+                 text.c_str(), progress::duration_text(elapsed).c_str(),
+                 progress::duration_text(left).c_str());
   }
+  void row_done() { ++done_; }
   void clear() const {
     if (enabled_) std::fputs("\r\033[K", stderr);
   }
 
  private:
   bool enabled_;
+  std::size_t rows_, done_ = 0;
+  double estimate_;
+  Clock::time_point start_ = Clock::now();
 };
 
 void print_header(const Context& c) {
   const std::string isas = supported_isa_list();
-  std::printf("sphray bench: %s, %zu spheres, %d thread%s, %.2g s per row\n", c.scene.c_str(),
-              c.spheres, c.threads, c.threads == 1 ? "" : "s", c.seconds_per_row);
+  std::printf("sphray bench: %s, %zu spheres, %d thread%s, %.2g s per row in %d repetition%s\n",
+              c.scene.c_str(), c.spheres, c.threads, c.threads == 1 ? "" : "s", c.seconds_per_row,
+              c.repetitions, c.repetitions == 1 ? "" : "s");
   std::printf("instruction sets: %s; queries: %s, trees: %s (* marks the rows they take)\n",
               isas.c_str(), std::string(isa_name(active_isa())).c_str(),
               std::string(isa_name(bvh_isa(c.spheres))).c_str());
@@ -63,47 +89,77 @@ void print_header(const Context& c) {
   std::printf("%s\n", embree.empty() ? "Embree: not in this build" : embree.c_str());
 }
 
-// After a row's rate: how many of the rays brute force traced, if not all; for another
-// library's row, how the dispatched tree compares.
-std::string note(const Row& row, const RaySet& set, const Timing& timing, double tree_rate) {
-  char text[64] = "";
-  if (row.brute_force && timing.rays_per_pass < set.rays.size())
-    std::snprintf(text, sizeof text, "  (%zu of the rays)", timing.rays_per_pass);
-  if (!row.exact && tree_rate > 0)
-    std::snprintf(text, sizeof text, "  (tree* %.2fx this)", tree_rate / timing.rays_per_second());
-  return text;
+// After a row's rates: for another library's row, how sphray's default tree compares; for a row
+// whose threads did not have their cores all the time, how much they had.
+std::string note(const Row& row, const RowTiming& timing, double tree_rate) {
+  std::string text;
+  char part[96];
+  if (!row.exact && tree_rate > 0) {
+    const double ratio = tree_rate / timing.median_rate();
+    if (ratio >= 1)
+      std::snprintf(part, sizeof part, "sphray's default tree (*) is %.2fx as fast", ratio);
+    else
+      std::snprintf(part, sizeof part, "%.2fx as fast as sphray's default tree (*)", 1 / ratio);
+    text += part;
+  }
+  if (timing.cpu_share() < 0.9) {
+    std::snprintf(part, sizeof part, "%shad the CPU %.0f%% of the time", text.empty() ? "" : "; ",
+                  100 * timing.cpu_share());
+    text += part;
+  }
+  return text.empty() ? text : "  " + text;
 }
 
 // The rows of one ray kind, printed as they finish; false at the first disagreement.
 bool run_kind(const BenchArgs& args, const Scene& scene, const Context& context, RayKind kind,
-              const std::vector<Row>& rows, std::vector<Result>& results) {
-  const Progress progress(!args.quiet);
+              const std::vector<Row>& rows, Progress& progress, std::vector<Result>& results,
+              std::vector<Measured>& measured) {
   progress.show(std::string("making ") + ray_kind_name(kind) + " rays");
   const RaySet set = make_ray_set(scene, kind);
   progress.clear();
-  std::printf("\n%s rays (%s):\n", ray_kind_name(kind), set.description.c_str());
+  std::printf("\n%s rays (%s", ray_kind_name(kind), set.description.c_str());
+  if (kind == RayKind::camera) std::printf(", %zu rays", set.rays.size());
+  const bool brute_timed = std::any_of(
+      rows.begin(), rows.end(), [](const Row& r) { return r.brute_force && r.skipped.empty(); });
+  if (brute_timed && set.brute_rays.size() < set.rays.size())
+    std::printf("; brute force traces %zu of them, spread evenly, to keep a pass short",
+                set.brute_rays.size());
+  std::printf("):\n  %-25s %8s  %-13s  %11s\n", "row", "Mrays/s", "(min-max)", "by CPU time");
   std::fflush(stdout);
   double tree_rate = 0.0;  // the dispatched tree's, for the ratios of the Embree rows
   for (const Row& row : rows) {
-    progress.show(row.name);
-    Timing timing;
+    if (!row.skipped.empty()) {
+      std::printf("  %-25s skipped: %s\n", row.name.c_str(), row.skipped.c_str());
+      results.push_back({result_name(context, kind, row), "", {}, row.skipped});
+      continue;
+    }
+    progress.show(row.name + ": " + (row.brute_force ? "checking" : "building, checking"));
+    RowTiming timing;
     {
       const Trace trace = row.prepare(scene.spheres.view());  // released before the next row
-      timing = time_row(row, trace, set, args.threads, args.seconds);
+      progress.show(row.name + ": timing");
+      timing = time_row(row, trace, set, args.threads, args.seconds, args.repetitions);
     }
+    progress.row_done();
     progress.clear();
     if (!timing.mismatch.empty()) {
       std::fprintf(stderr, "sphray: %s disagrees with the scalar reference on %s rays: %s\n",
                    row.name.c_str(), ray_kind_name(kind), timing.mismatch.c_str());
       return false;
     }
-    const double r = timing.rays_per_second();
+    const double r = timing.median_rate();
     if (row.dispatched && row.name.ends_with(" tree")) tree_rate = r;
-    std::printf("  %-24s%s%s%s\n", row.name.c_str(), row.dispatched ? "*" : " ", rate(r).c_str(),
-                note(row, set, timing, tree_rate).c_str());
+    char spread[48];
+    std::snprintf(spread, sizeof spread, "(%.2f-%.2f)", timing.min_rate() / 1e6,
+                  timing.max_rate() / 1e6);
+    std::printf("  %-24s%s %8s  %-13s  %11s%s\n", row.name.c_str(), row.dispatched ? "*" : " ",
+                mrays(r).c_str(), spread, mrays(timing.median_cpu_rate()).c_str(),
+                note(row, timing, tree_rate).c_str());
     std::fflush(stdout);
-    results.push_back(
-        {result_name(context, kind, row), row.dispatched ? "dispatched" : "", timing});
+    measured.push_back({row.name, row.dispatched, row.brute_force, row.name.ends_with(" stream"),
+                        row.exact, r, timing.min_rate(), timing.max_rate()});
+    results.push_back({result_name(context, kind, row), row.dispatched ? "dispatched" : "",
+                       std::move(timing), ""});
   }
   return true;
 }
@@ -121,6 +177,7 @@ bool write_json(const std::string& path, const Context& context,
 }  // namespace
 
 int run_bench(const BenchArgs& args) {
+  const Clock::time_point start = Clock::now();
   Scene scene;
   try {
     scene = load_scene_or_preset(args.scene);
@@ -128,14 +185,41 @@ int run_bench(const BenchArgs& args) {
     std::fprintf(stderr, "sphray: %s\n", e.what());
     return kExitUsage;
   }
-  const Context context{args.scene, scene.spheres.size(), args.threads, args.seconds};
+  Context context{args.scene,   scene.spheres.size(), args.threads,
+                  args.seconds, args.repetitions,     {}};
+  double load[3];
+  if (::getloadavg(load, 3) == 3) context.load_average.assign(load, load + 3);
   print_header(context);
   std::vector<Row> rows = sphray_rows(scene.spheres.size());
   for (Row& row : embree_rows())
     rows.push_back(std::move(row));
+  const std::vector<RayKind> kinds = ray_kinds(args.rays);
+  const auto timed = static_cast<std::size_t>(
+      std::count_if(rows.begin(), rows.end(), [](const Row& r) { return r.skipped.empty(); }));
+  const double estimate = estimate_seconds(timed * kinds.size(), args.seconds);
+  std::printf(
+      "%zu rows to time (%zu per ray kind): about %s, longer where a pass over the rays or a "
+      "tree's build is slow, or the machine is busy\n",
+      timed * kinds.size(), timed, progress::duration_text(estimate).c_str());
+  if (!context.load_average.empty()) {
+    const std::string warning = load_warning(
+        context.load_average[0], std::max(1u, std::thread::hardware_concurrency()), args.threads);
+    if (!warning.empty()) std::printf("%s\n", warning.c_str());
+  }
+  std::fflush(stdout);
+  Progress progress(!args.quiet, timed * kinds.size(), estimate);
   std::vector<Result> results;
-  for (RayKind kind : ray_kinds(args.rays))
-    if (!run_kind(args, scene, context, kind, rows, results)) return kExitFailure;
+  std::vector<std::vector<Measured>> measured(kinds.size());
+  for (std::size_t k = 0; k < kinds.size(); ++k)
+    if (!run_kind(args, scene, context, kinds[k], rows, progress, results, measured[k]))
+      return kExitFailure;
+  std::printf("\n");
+  for (std::size_t k = 0; k < kinds.size(); ++k)
+    std::printf("%s", recommendation(measured[k], ray_kind_name(kinds[k])).c_str());
+  std::printf("took %s in all (estimated: about %s)\n",
+              progress::duration_text(seconds_since(start)).c_str(),
+              progress::duration_text(estimate).c_str());
+  std::fflush(stdout);
   if (!args.json.empty() && !write_json(args.json, context, results)) return kExitFailure;
   return 0;
 }

@@ -10,9 +10,10 @@ struct BenchArgs {
   std::string scene = "rtiow-final";
   std::string rays = "both";  // camera, random or both
   int threads = 1;
-  double seconds = 0.5;  // per row
-  std::string json;      // Google Benchmark-style output file, or empty
-  bool quiet = false;    // no progress on stderr
+  double seconds = 0.5;  // per row, shared among its repetitions
+  int repetitions = 3;
+  std::string json;    // Google Benchmark-style output file, or empty
+  bool quiet = false;  // no progress on stderr
 };
 
 /// Runs the rows and prints them on stdout, one per line as each finishes. Returns the exit

@@ -52,11 +52,13 @@ Row embree_row(std::string name, EmbreeTrace trace) {
 }  // namespace
 
 std::vector<Row> embree_rows() {
-  std::vector<Row> rows{embree_row("embree rtcIntersect1", embree::intersect1)};
-  if (rtcGetDeviceProperty(device().get(), RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED))
-    rows.push_back(embree_row("embree rtcIntersect8", embree::intersect8));
-  if (rtcGetDeviceProperty(device().get(), RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED))
-    rows.push_back(embree_row("embree rtcIntersect16", embree::intersect16));
+  std::vector<Row> rows{embree_row("embree rtcIntersect1", embree::intersect1),
+                        embree_row("embree rtcIntersect8", embree::intersect8),
+                        embree_row("embree rtcIntersect16", embree::intersect16)};
+  if (!rtcGetDeviceProperty(device().get(), RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED))
+    rows[1].skipped = "this Embree has no native packets of 8 rays";
+  if (!rtcGetDeviceProperty(device().get(), RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED))
+    rows[2].skipped = "this Embree has no native packets of 16 rays (it needs AVX-512)";
   return rows;
 }
 

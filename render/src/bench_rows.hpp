@@ -26,17 +26,21 @@ struct Row {
   bool dispatched = false;
   /// Readies the row for the spheres outside the timed passes (a tree's build, say).
   std::function<Trace(SphereView spheres)> prepare;
+  /// Why the row is not timed on this scene or machine ("brute force is timed up to ..."), or
+  /// empty: a skipped row is listed with its reason, never left out silently.
+  std::string skipped = {};
 };
 
 /// Brute force is timed up to this many spheres: beyond, it is slower than the tree by orders
 /// of magnitude, and a pass over a useful number of rays would take minutes.
 inline constexpr std::size_t kBruteForceUpTo = 4096;
 
-/// The scalar reference and each instruction set's brute force (small scenes only), each
+/// The scalar reference and each instruction set's brute force (skipped on large scenes), each
 /// instruction set's tree per ray and its stream call.
 std::vector<Row> sphray_rows(std::size_t sphere_count);
 
-/// Intel Embree 3's rtcIntersect1, 8 and 16 where this build has Embree; none otherwise.
+/// Intel Embree 3's rtcIntersect1, 8 and 16 where this build has Embree (8 and 16 skipped where
+/// this Embree has no native packets of that width); none otherwise.
 std::vector<Row> embree_rows();
 /// The instruction sets this machine runs, best first, separated by spaces.
 std::string supported_isa_list();

@@ -43,11 +43,57 @@ double cpu_now() {
   return static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
 }
 
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+std::vector<double> wall_rates(const RowTiming& t) {
+  std::vector<double> rates;
+  for (const Timing& r : t.repetitions)
+    rates.push_back(r.rays_per_second());
+  return rates;
+}
+
 }  // namespace
 
-Timing time_row(const Row& row, const Trace& trace, const RaySet& set, int threads,
-                double seconds) {
-  Timing timing;
+double RowTiming::median_rate() const {
+  return median(wall_rates(*this));
+}
+
+double RowTiming::min_rate() const {
+  const std::vector<double> rates = wall_rates(*this);
+  return rates.empty() ? 0.0 : *std::min_element(rates.begin(), rates.end());
+}
+
+double RowTiming::max_rate() const {
+  const std::vector<double> rates = wall_rates(*this);
+  return rates.empty() ? 0.0 : *std::max_element(rates.begin(), rates.end());
+}
+
+double RowTiming::median_cpu_rate() const {
+  std::vector<double> rates;
+  for (const Timing& r : repetitions)
+    if (r.cpu_seconds > 0)
+      rates.push_back(static_cast<double>(r.passes * r.rays_per_pass) * threads / r.cpu_seconds);
+  return median(rates);
+}
+
+double RowTiming::cpu_share() const {
+  double wall = 0.0, cpu = 0.0;
+  for (const Timing& r : repetitions) {
+    wall += r.seconds;
+    cpu += r.cpu_seconds;
+  }
+  return wall > 0 ? cpu / (wall * threads) : 1.0;
+}
+
+RowTiming time_row(const Row& row, const Trace& trace, const RaySet& set, int threads,
+                   double seconds, int repetitions) {
+  RowTiming timing;
+  timing.threads = threads;
   timing.mismatch = first_mismatch(row, trace, set);
   if (!timing.mismatch.empty()) return timing;
   const std::vector<Ray>& rays = row.brute_force ? set.brute_rays : set.rays;
@@ -70,15 +116,20 @@ Timing time_row(const Row& row, const Trace& trace, const RaySet& set, int threa
   };
   pass();  // warm-up: caches, page faults, the arena's threads
   using Clock = std::chrono::steady_clock;
-  const double cpu_start = cpu_now();
-  const Clock::time_point start = Clock::now();
-  do {
-    pass();
-    ++timing.passes;
-    timing.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  } while (timing.seconds < seconds);
-  timing.cpu_seconds = cpu_now() - cpu_start;
-  timing.rays_per_pass = rays.size();
+  const double share = seconds / std::max(1, repetitions);
+  for (int i = 0; i < repetitions; ++i) {
+    Timing t;
+    const double cpu_start = cpu_now();
+    const Clock::time_point start = Clock::now();
+    do {
+      pass();
+      ++t.passes;
+      t.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    } while (t.seconds < share);
+    t.cpu_seconds = cpu_now() - cpu_start;
+    t.rays_per_pass = rays.size();
+    timing.repetitions.push_back(t);
+  }
   return timing;
 }
 

@@ -273,6 +273,7 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RayQueries& queries,
   // Passes over every tile, each of up to kSamplesPerPass samples: a time limit is checked
   // between passes, so every pixel gets the same number of samples (at least one), and a pass
   // is never cut short.
+  if (progress) progress(0, total, {});  // the tracing starts: any tree is built by now
   const auto start = Clock::now();
   int passes = 0;  // the samples traced so far
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);

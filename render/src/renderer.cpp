@@ -296,6 +296,7 @@ Image render(const Scene& scene, const RayQueries& queries, const RenderOptions&
     }
   };
 
+  if (progress) progress(0, tiles, {});  // the tracing starts: any tree is built by now
   auto start = std::chrono::steady_clock::now();
   if (queries.collective()) {
     render_tiles(0, tiles);  // every process the same calls in the same order

@@ -6,18 +6,18 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cerrno>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
-#include <mutex>
 #include <new>
 #include <string>
 #include <thread>
 
 #include "bench_command.hpp"
+#include "progress_report.hpp"
 #include "render_args.hpp"
+#include "scene_queries.hpp"
 #include "sphray/render/image_file.hpp"
 #include "sphray/render/memory_check.hpp"
 #include "sphray/render/renderer.hpp"
@@ -90,55 +90,19 @@ void require_image_memory(const RenderArgs& args, const RenderOptions& options) 
                             std::to_string(options.height) + " image");
 }
 
-std::string format_rate(double per_second);
+// The first phase's name: a preset is made, a file (or standard input) read.
+std::string scene_phase(const std::string& scene) {
+  if (scene == "-") return "reading the scene from standard input";
+  const std::vector<std::string> presets = preset_names();
+  const bool preset = scene.starts_with("random:") ||
+                      std::find(presets.begin(), presets.end(), scene) != presets.end();
+  return (preset ? "making the scene " : "reading ") + scene;
+}
 
-// A progress bar on stderr, shown only on a terminal and only once the render has run for half
-// a second, redrawn at most ten times a second. Called from worker threads.
-class ProgressBar {
- public:
-  explicit ProgressBar(bool enabled) : enabled_(enabled) {}
-  ~ProgressBar() {
-    if (shown_) std::fputs("\r\033[K", stderr);
-  }
-
-  void update(std::size_t done, std::size_t total, const RayCounts& rays) {
-    if (!enabled_) return;
-    std::unique_lock lock(mutex_, std::try_to_lock);
-    if (!lock.owns_lock()) return;  // another thread is drawing; skip this one
-    auto now = Clock::now();
-    if (now - start_ < std::chrono::milliseconds(500)) return;
-    if (shown_ && now - last_ < std::chrono::milliseconds(100) && done != total) return;
-    last_ = now;
-    shown_ = true;
-    constexpr int kWidth = 40;
-    int filled = static_cast<int>(kWidth * done / total);
-    std::uint64_t all = rays.camera + rays.bounce + rays.shadow;
-    double seconds = std::chrono::duration<double>(now - start_).count();
-    std::fprintf(stderr, "\r[%s%s] %3d%% %.1fM camera + %.1fM bounce + %.1fM shadow rays, %s\033[K",
-                 std::string(filled, '#').c_str(), std::string(kWidth - filled, ' ').c_str(),
-                 static_cast<int>(100 * done / total), static_cast<double>(rays.camera) / 1e6,
-                 static_cast<double>(rays.bounce) / 1e6, static_cast<double>(rays.shadow) / 1e6,
-                 format_rate(static_cast<double>(all) / seconds).c_str());
-    std::fflush(stderr);
-  }
-
- private:
-  using Clock = std::chrono::steady_clock;
-  bool enabled_;
-  bool shown_ = false;
-  std::mutex mutex_;
-  Clock::time_point start_ = Clock::now();
-  Clock::time_point last_{};
-};
-
-std::string format_rate(double per_second) {
-  char text[32];
-  if (per_second >= 1e6) {
-    std::snprintf(text, sizeof text, "%.2f Mrays/s", per_second / 1e6);
-  } else {
-    std::snprintf(text, sizeof text, "%.0f rays/s", per_second);
-  }
-  return text;
+// Whether render() builds a tree before it traces (SceneQueries' rule): a phase of its own.
+bool builds_tree(const Scene& scene, const RenderOptions& options) {
+  return options.accel == Accel::bvh || (options.accel == Accel::automatic &&
+                                         scene.spheres.size() >= SceneQueries::kBvhFromSpheres);
 }
 
 void print_summary(const RenderArgs& args, const RenderOptions& options, const RenderStats& s) {
@@ -150,7 +114,7 @@ void print_summary(const RenderArgs& args, const RenderOptions& options, const R
       "wrote %s: %dx%d, %d spp, %s, %.3f s, %s (%llu camera + %llu bounce + %llu shadow rays, "
       "%s)\n",
       args.output.c_str(), options.width, options.height, s.spp, args.mode.c_str(), s.seconds,
-      format_rate(rate).c_str(), static_cast<unsigned long long>(s.camera_rays),
+      progress::rate_text(rate).c_str(), static_cast<unsigned long long>(s.camera_rays),
       static_cast<unsigned long long>(s.bounce_rays),
       static_cast<unsigned long long>(s.shadow_rays), accel);
   if (options.mode == Mode::path && s.kernel_seconds > 0) {
@@ -170,6 +134,8 @@ int run_render(const RenderArgs& args) {
     return kExitUsage;
   }
   try {
+    progress::Reporter reporter(!args.quiet, ::isatty(STDERR_FILENO) == 1, args.time_limit);
+    reporter.phase(scene_phase(args.scene));
     Scene scene = load_scene_or_preset(args.scene);
     RenderOptions options;
     options.mode = *parse_mode(args.mode);  // CLI11 checked the name
@@ -183,17 +149,18 @@ int run_render(const RenderArgs& args) {
     PendingImageFile output(args.output, args.force);
     require_image_memory(args, options);
     RenderStats stats;
-    Image image;
-    {
-      ProgressBar bar(!args.quiet && ::isatty(STDERR_FILENO));
-      image = render(
-          scene, options,
-          [&bar](std::size_t done, std::size_t total, const RayCounts& rays) {
-            bar.update(done, total, rays);
-          },
-          &stats);
-    }
+    reporter.phase(builds_tree(scene, options)
+                       ? "building the tree of " + std::to_string(scene.spheres.size()) + " spheres"
+                       : "rendering");
+    const Image image = render(
+        scene, options,
+        [&reporter](std::size_t done, std::size_t total, const RayCounts& rays) {
+          reporter.update(done, total, rays);
+        },
+        &stats);
+    reporter.phase("writing " + args.output);
     output.commit(image);
+    reporter.finish();
     if (!args.quiet) print_summary(args, options, stats);
     return 0;
   } catch (const SceneError& e) {
@@ -272,8 +239,15 @@ void add_bench_options(CLI::App& bench, sphray::render::bench::BenchArgs& args) 
   bench.add_option("--threads,-j", args.threads, "Threads each row traces on")
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
-  bench.add_option("--seconds", args.seconds, "Seconds of passes over the rays per row")
+  bench
+      .add_option("--seconds", args.seconds,
+                  "Seconds of passes over the rays per row, shared among its repetitions")
       ->check(seconds_validator())
+      ->capture_default_str();
+  bench
+      .add_option("--repetitions", args.repetitions,
+                  "Times each row is timed: its rate is their median, its spread min to max")
+      ->check(CLI::Range(1, 1000))
       ->capture_default_str();
   bench.add_option("--json", args.json, "Also write the results as Google Benchmark JSON");
   bench.add_flag("--quiet,-q", args.quiet, "No progress line on stderr");

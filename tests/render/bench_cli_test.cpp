@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench_report.hpp"
 #include "command_run.hpp"
 #include "sphray/sphray.hpp"
 #include "test_files.hpp"
@@ -35,48 +36,157 @@ std::size_t small_scene_rows() {
 }
 
 TEST_F(BenchCli, TimesEveryRowAndWritesGoogleBenchmarkJson) {
-  const Result r = run("bench -s three --rays both --seconds 0.001 -q --json " + path("r.json"));
+  const Result r =
+      run("bench -s three --rays both --seconds 0.001 --repetitions 2 -q --json " + path("r.json"));
   ASSERT_EQ(r.status, 0) << r.out;
-  EXPECT_NE(r.out.find("three, 3 spheres, 1 thread"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("three, 3 spheres, 1 thread, 0.001 s per row in 2 repetitions"),
+            std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("camera rays"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("random rays"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("scalar brute force"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("Mrays/s"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Mrays/s  (min-max)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("by CPU time"), std::string::npos) << r.out;
 
   const auto json = nlohmann::json::parse(sphray::test::read_bytes(path("r.json")));
   EXPECT_EQ(json.at("context").at("scene"), "three");
   EXPECT_EQ(json.at("context").at("spheres"), 3);
+  EXPECT_EQ(json.at("context").at("repetitions"), 2);
   EXPECT_EQ(json.at("context").at("sphray_bvh_isa"),
             std::string(sphray::isa_name(sphray::bvh_isa(3))));
   const auto& rows = json.at("benchmarks");
-  std::size_t sphray_rows = 0, dispatched = 0;
+  std::size_t sphray_rows = 0, dispatched = 0, medians = 0;
   for (const auto& row : rows) {
     const std::string name = row.at("name");
     EXPECT_TRUE(name.starts_with("three/camera/") || name.starts_with("three/random/")) << name;
+    EXPECT_EQ(row.at("repetitions"), 2) << name;
+    EXPECT_EQ(row.at("time_unit"), "ms") << name;
+    if (row.at("run_type") == "aggregate") {
+      // Google Benchmark's aggregates: NAME_mean and so on, after the repetitions.
+      const std::string aggregate = row.at("aggregate_name");
+      EXPECT_TRUE(name.ends_with("/threads:1_" + aggregate)) << name;
+      EXPECT_EQ(row.at("run_name").get<std::string>() + "_" + aggregate, name);
+      medians += aggregate == "median";
+      continue;
+    }
+    EXPECT_EQ(row.at("run_type"), "iteration") << name;
     EXPECT_TRUE(name.ends_with("/threads:1")) << name;
     EXPECT_GE(row.at("iterations").get<int>(), 1) << name;
     EXPECT_GT(row.at("real_time").get<double>(), 0.0) << name;
-    EXPECT_EQ(row.at("time_unit"), "ms") << name;
     const double rate = row.at("items_per_second");
     const double rays = row.at("rays");
     // items per second is rays per pass over the time per pass.
     EXPECT_NEAR(rate, rays / (row.at("real_time").get<double>() / 1e3), 1e-6 * rate) << name;
+    if (row.at("repetition_index") != 0) continue;
     sphray_rows += name.find("/embree-") == std::string::npos;
     dispatched += row.value("label", "") == "dispatched";
   }
   EXPECT_EQ(sphray_rows, 2 * small_scene_rows());
+  EXPECT_GE(medians, 2 * small_scene_rows());
   // Per ray kind: one brute force, the tree and the stream of the dispatched instruction set
   // (two if the tree's is scalar, which has no stream row).
   EXPECT_GE(dispatched, 2u * 2u);
   EXPECT_LE(dispatched, 2u * 3u);
 }
 
-TEST_F(BenchCli, LeavesBruteForceOutOnLargeScenes) {
-  const Result r = run("bench -s random:4097 --rays camera --seconds 0 -q");
+// The run says up front how long it should take, and at the end how long it took and which of
+// sphray's calls was fastest, in plain words.
+TEST_F(BenchCli, EstimatesTheRunAndRecommendsACall) {
+  const Result r = run("bench -s three --rays camera --seconds 0 -q");
   ASSERT_EQ(r.status, 0) << r.out;
-  EXPECT_EQ(r.out.find(" brute force "), std::string::npos) << r.out;
+  const std::size_t estimate = r.out.find(" rows to time (");
+  ASSERT_NE(estimate, std::string::npos) << r.out;
+  EXPECT_LT(estimate, r.out.find("camera rays")) << r.out;  // before the first row
+  EXPECT_NE(r.out.find("fastest for camera rays: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("took "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(estimated: "), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("of the rays)"), std::string::npos) << r.out;  // the old cryptic notes
+  EXPECT_EQ(r.out.find("(tree* "), std::string::npos) << r.out;
+}
+
+// On a terminal, stderr names the row in hand, of how many, with the time left; -q silences it.
+TEST_F(BenchCli, ShowsTheRowInHandAndTheTimeLeftOnATerminal) {
+  const Result r = sphray::test::run_sphray_on_terminal("bench -s three --rays camera --seconds 0");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("[1/"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("scalar brute force: checking ... "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" left"), std::string::npos) << r.out;
+  const Result quiet =
+      sphray::test::run_sphray_on_terminal("bench -s three --rays camera --seconds 0 -q");
+  ASSERT_EQ(quiet.status, 0) << quiet.out;
+  EXPECT_EQ(quiet.out.find("[1/"), std::string::npos) << quiet.out;
+}
+
+// Every row left out says so and why, on the console and in the JSON.
+TEST_F(BenchCli, SaysWhyItSkipsBruteForceOnLargeScenes) {
+  const Result r = run("bench -s random:4097 --rays camera --seconds 0 --repetitions 1 -q --json " +
+                       path("r.json"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  const std::string reason =
+      " skipped: brute force is timed up to 4096 spheres, this scene has 4097";
+  std::size_t lines = 0;
+  for (std::size_t at = r.out.find(reason); at != std::string::npos;
+       at = r.out.find(reason, at + 1))
+    ++lines;
+  EXPECT_EQ(lines, sphray::supported_isas().size()) << r.out;  // scalar and each one's
+  EXPECT_NE(r.out.find("scalar brute force"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("scalar tree"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("random rays"), std::string::npos) << r.out;
+  const auto json = nlohmann::json::parse(sphray::test::read_bytes(path("r.json")));
+  std::size_t skipped = 0;
+  for (const auto& row : json.at("context").at("skipped"))
+    skipped += row.at("reason").get<std::string>().starts_with("brute force is timed up to");
+  EXPECT_EQ(skipped, sphray::supported_isas().size());
+  for (const auto& row : json.at("benchmarks"))
+    EXPECT_EQ(row.at("name").get<std::string>().find("brute-force"), std::string::npos);
+}
+
+namespace bench = sphray::render::bench;
+
+TEST(BenchReport, WarnsWhenTheLoadAverageSaysTheMachineIsBusy) {
+  const std::string busy = bench::load_warning(3.7, 2, 1);
+  EXPECT_NE(busy.find("warning: the machine is busy (load average 3.70"), std::string::npos)
+      << busy;
+  EXPECT_NE(busy.find("CPU time"), std::string::npos) << busy;
+  EXPECT_EQ(bench::load_warning(0.4, 2, 1), "");
+  EXPECT_EQ(bench::load_warning(1.2, 4, 2), "");
+  EXPECT_NE(bench::load_warning(1.2, 4, 4), "");  // every core wanted, one already taken
+}
+
+TEST(BenchReport, EstimateCountsEachTimedRowsSeconds) {
+  EXPECT_DOUBLE_EQ(bench::estimate_seconds(28, 0.3), 28 * 0.3);
+  EXPECT_DOUBLE_EQ(bench::estimate_seconds(0, 0.3), 0.0);
+}
+
+TEST(BenchReport, RecommendsTheFastestDefaultCallAndSaysWhenItIsWithinTheSpread) {
+  std::vector<bench::Measured> rows = {
+      {"avx512 brute force", true, true, false, true, 8.9e6, 8.8e6, 9.0e6},
+      {"avx512 tree", true, false, false, true, 11.9e6, 11.6e6, 12.2e6},
+      {"avx512 stream", true, false, true, true, 12.2e6, 12.1e6, 12.4e6},
+      {"avx2 stream", false, false, true, true, 12.3e6, 12.0e6, 12.5e6},
+      {"embree rtcIntersect16", false, false, false, false, 30e6, 29e6, 31e6},
+  };
+  std::string text = bench::recommendation(rows, "camera");
+  EXPECT_EQ(text.rfind("fastest for camera rays: the stream call on a tree, "
+                       "sphray::intersect(tree, rays, hits), 12.20 Mrays/s (avx512 stream)\n",
+                       0),
+            0u)
+      << text;
+  EXPECT_NE(text.find("sphray::intersect(tree, ray): 1.03x slower, within the spread"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("sphray::intersect(spheres, ray): 1.37x slower\n"), std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("faster still"), std::string::npos) << text;  // within the spread
+  EXPECT_EQ(text.find("embree"), std::string::npos) << text;        // not one of sphray's calls
+  rows[3].median = 14e6;
+  rows[3].min = 13.5e6;
+  text = bench::recommendation(rows, "camera");
+  EXPECT_NE(text.find("faster still here: a tree laid out for avx2 (avx2 stream), built as "
+                      "SphereBVH(spheres, sphray::Isa::avx2): 1.15x as fast"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(bench::recommendation({rows.back()}, "camera"), "");
 }
 
 TEST_F(BenchCli, ASceneFileErrorSaysWhereAndExitsWithTwo) {
@@ -94,6 +204,7 @@ TEST_F(BenchCli, RefusesUnknownRayKindsAndThreadCounts) {
   EXPECT_EQ(run("bench -s three --rays sideways").status, 2);
   EXPECT_EQ(run("bench -s three --threads 0").status, 2);
   EXPECT_EQ(run("bench -s three --seconds -1").status, 2);
+  EXPECT_EQ(run("bench -s three --repetitions 0").status, 2);
   EXPECT_EQ(run("bench -s nosuch").status, 2);
 }
 

@@ -19,6 +19,7 @@
 #include <stb/stb_image.h>
 
 #include "command_run.hpp"
+#include "progress_report.hpp"
 #include "test_files.hpp"
 
 namespace {
@@ -107,6 +108,92 @@ TEST_F(Cli, QuietPrintsNothing) {
   Result r = run("render -s single -W 16 -H 9 -q -o " + path("q.png"));
   EXPECT_EQ(r.status, 0);
   EXPECT_EQ(r.out, "");
+}
+
+// On a terminal the command names each phase as it starts (drawn at once, so even a run this
+// short shows them), with the elapsed time, then clears the line before the summary.
+TEST_F(Cli, ProgressOnATerminalNamesThePhasesInOrder) {
+  const Result r =
+      sphray::test::run_sphray_on_terminal("render -s random:300 -W 32 -H 18 -o " + path("t.png"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::size_t at = 0;
+  for (const std::string& phase :
+       std::vector<std::string>{"making the scene random:300", "building the tree of 300 spheres",
+                                "rendering [", "writing " + path("t.png") + " ... ", "wrote "}) {
+    const std::size_t found = r.out.find(phase, at);
+    ASSERT_NE(found, std::string::npos) << phase << " after offset " << at << " in " << r.out;
+    at = found;
+  }
+  EXPECT_NE(r.out.find(" elapsed"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\r\033[K"), std::string::npos) << r.out;  // the line is cleared
+}
+
+TEST_F(Cli, ProgressNamesAFileSceneAndQuietSilencesTheTerminal) {
+  write_text(path("s.json"), R"({"spheres": [{"center": [0, 0, -1], "radius": 0.5}]})");
+  const Result r = sphray::test::run_sphray_on_terminal("render -s " + path("s.json") +
+                                                        " -W 8 -H 8 -o " + path("s.png"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("reading " + path("s.json")), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("building the tree"), std::string::npos) << r.out;  // 1 sphere: none
+  const Result quiet =
+      sphray::test::run_sphray_on_terminal("render -s random:300 -W 8 -H 8 -q -o " + path("q.png"));
+  EXPECT_EQ(quiet.status, 0) << quiet.out;
+  EXPECT_EQ(quiet.out, "");
+}
+
+// stderr a pipe: no bar and no control characters; a run this short prints only the summary.
+TEST_F(Cli, ProgressWhenNotATerminalIsPlainLines) {
+  const Result r = run("render -s random:300 -m path -W 16 -H 16 -o " + path("p.png"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(r.out.find('\r'), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find('\033'), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find('['), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.rfind("wrote ", 0), 0u) << r.out;
+}
+
+namespace progress = sphray::render::progress;
+
+// One unit for every rate, the summary's and the bar's: small rates get more decimals, not
+// another unit.
+TEST(ProgressText, RatesAreAlwaysInMraysPerSecond) {
+  EXPECT_EQ(progress::rate_text(70), "0.000070 Mrays/s");
+  EXPECT_EQ(progress::rate_text(123456), "0.123 Mrays/s");
+  EXPECT_EQ(progress::rate_text(12.3456e6), "12.35 Mrays/s");
+  EXPECT_EQ(progress::rate_text(0), "0.00 Mrays/s");
+}
+
+TEST(ProgressText, Durations) {
+  EXPECT_EQ(progress::duration_text(0.42), "0.4 s");
+  EXPECT_EQ(progress::duration_text(12.4), "12 s");
+  EXPECT_EQ(progress::duration_text(125), "2 min 05 s");
+  EXPECT_EQ(progress::duration_text(3720), "1 h 02 min");
+}
+
+// The rate and the time left come from the tracing alone: a long tree build before it (here
+// 100 s of the 104 elapsed) changes neither.
+TEST(ProgressText, RateAndTimeLeftCountOnlyTheTracing) {
+  progress::Snapshot s;
+  s.phase = "building the tree of 8000000 spheres";
+  s.elapsed = 3.21;
+  EXPECT_EQ(progress::terminal_line(s), "building the tree of 8000000 spheres ... 3.2 s elapsed");
+  EXPECT_EQ(progress::log_line(s), "sphray: building the tree of 8000000 spheres, 3.2 s elapsed");
+  EXPECT_LT(progress::seconds_left(s), 0);  // not rendering yet: unknown
+  s.phase = "rendering";
+  s.rendering = true;
+  s.elapsed = 104;
+  s.trace_seconds = 4;
+  s.done = 45;
+  s.total = 100;
+  s.rays = {9000000, 0, 0};
+  EXPECT_NEAR(progress::seconds_left(s), 4.0 * 55 / 45, 1e-9);
+  EXPECT_EQ(progress::terminal_line(s),
+            "rendering [##########              ]  45% 9.0M camera rays, 2.25 Mrays/s, about 4.9 s "
+            "left, 1 min 44 s elapsed");
+  EXPECT_EQ(progress::log_line(s),
+            "sphray: rendering: 45%, 9.0M camera rays, 2.25 Mrays/s, about 4.9 s left, 1 min 44 s "
+            "elapsed");
+  s.time_limit = 6;  // path mode stops starting samples after 6 s of tracing
+  EXPECT_NEAR(progress::seconds_left(s), 2.0, 1e-9);
 }
 
 TEST_F(Cli, ScenesInfoAndHelp) {

@@ -3,8 +3,11 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <pty.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -26,6 +29,33 @@ inline CommandResult run_sphray(const std::string& args) {
   while (std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe))
     out.append(buffer, n);
   const int raw = ::pclose(pipe);
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, out};
+}
+
+/// `sphray <args>` with a terminal (a pseudo-terminal) for its stdin, stdout and stderr, which
+/// it reads as a user would see them, control characters included.
+inline CommandResult run_sphray_on_terminal(const std::string& args) {
+  int terminal = -1;
+  const pid_t child = ::forkpty(&terminal, nullptr, nullptr, nullptr);
+  if (child < 0) return {-1, "forkpty failed"};
+  if (child == 0) {
+    const std::string command = std::string(SPHRAY_EXE) + " " + args;
+    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  std::string out;
+  char buffer[4096];
+  for (;;) {  // read() fails with EIO once the child has exited and the terminal is closed
+    const ssize_t n = ::read(terminal, buffer, sizeof buffer);
+    if (n > 0) {
+      out.append(buffer, static_cast<std::size_t>(n));
+    } else if (n == 0 || errno != EINTR) {
+      break;
+    }
+  }
+  ::close(terminal);
+  int raw = 0;
+  ::waitpid(child, &raw, 0);
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, out};
 }
 

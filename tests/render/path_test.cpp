@@ -302,9 +302,9 @@ TEST(PathProgress, CountsTilesTimesSamplesAndRaysOfEveryKind) {
         EXPECT_EQ(rays.shadow, 0u);
       },
       &stats);
-  // ceil(40/16) * ceil(20/16) tiles, each called once for its 3 samples; the count is of tiles
-  // times samples.
-  EXPECT_EQ(calls, 3u * 2u);
+  // Once when the tracing starts, then for each of ceil(40/16) * ceil(20/16) tiles once for its
+  // 3 samples; the count is of tiles times samples.
+  EXPECT_EQ(calls, 1u + 3u * 2u);
   EXPECT_EQ(last_total, 18u);
   EXPECT_EQ(stats.camera_rays, 40u * 20u * 3u);
   EXPECT_EQ(most_camera, stats.camera_rays);

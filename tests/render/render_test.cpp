@@ -209,11 +209,11 @@ TEST(Render, ReportsRaysAndProgress) {
   RenderOptions o = options(Mode::shaded, 40, 20);
   o.spp = 2;
   RenderStats stats;
-  std::atomic<std::size_t> calls{0}, last_total{0};
+  std::atomic<std::size_t> calls{0}, last_total{0}, first_done{99};
   render(
       make_preset("single"), o,
-      [&](std::size_t, std::size_t total, const RayCounts& rays) {
-        ++calls;
+      [&](std::size_t done, std::size_t total, const RayCounts& rays) {
+        if (calls++ == 0) first_done = done;
         last_total = total;
         EXPECT_LE(rays.camera, 40u * 20u * 2u);
         EXPECT_EQ(rays.bounce, 0u);
@@ -221,7 +221,9 @@ TEST(Render, ReportsRaysAndProgress) {
       &stats);
   EXPECT_EQ(stats.camera_rays, 40u * 20u * 2u);
   EXPECT_GT(stats.shadow_rays, 0u);
-  EXPECT_EQ(calls, 3u * 2u);  // ceil(40/16) * ceil(20/16) tiles
+  // Once when the tracing starts (done 0), then once per tile: ceil(40/16) * ceil(20/16).
+  EXPECT_EQ(first_done, 0u);
+  EXPECT_EQ(calls, 1u + 3u * 2u);
   EXPECT_EQ(last_total, 6u);
 }
 

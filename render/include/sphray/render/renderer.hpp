@@ -65,8 +65,9 @@ struct RayCounts {
   std::uint64_t camera = 0, bounce = 0, shadow = 0;
 };
 
-/// Called from worker threads after each tile with the tiles finished so far, the total (path
-/// mode: tiles times samples) and the rays traced so far.
+/// Called once with done 0 when the tracing starts (after any tree is built), then from worker
+/// threads after each tile with the tiles finished so far, the total (path mode: tiles times
+/// samples) and the rays traced so far.
 using Progress = std::function<void(std::size_t done, std::size_t total, const RayCounts& rays)>;
 
 inline constexpr int kTileSize = 16;
