@@ -6,16 +6,18 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
+#include <memory>
 #include <thread>
 #include <vector>
 
+#include "atomic_output.hpp"
 #include "bench_json.hpp"
 #include "bench_rays.hpp"
 #include "bench_report.hpp"
 #include "bench_rows.hpp"
 #include "bench_timing.hpp"
 #include "progress_report.hpp"
+#include "sphray/render/image_file.hpp"
 #include "sphray/render/scene.hpp"
 
 namespace sphray::render::bench {
@@ -164,14 +166,36 @@ bool run_kind(const BenchArgs& args, const Scene& scene, const Context& context,
   return true;
 }
 
-bool write_json(const std::string& path, const Context& context,
+// The JSON file's temporary, made before any row is timed: a path that cannot or may not be
+// written is refused at once rather than after the whole run, and an existing file is only
+// ever replaced whole (docs/robustness.md, "The output file"). Null without --json; prints the
+// refusal and sets status otherwise.
+std::unique_ptr<detail::AtomicOutput> open_json(const BenchArgs& args, int& status) {
+  status = 0;
+  if (args.json.empty()) return nullptr;
+  try {
+    return std::make_unique<detail::AtomicOutput>(args.json, args.force);
+  } catch (const OutputRefused& e) {
+    std::fprintf(stderr, "sphray: %s\n", e.what());
+    status = kExitUsage;
+  } catch (const IoError& e) {
+    std::fprintf(stderr, "sphray: %s\n", e.what());
+    status = kExitFailure;
+  }
+  return nullptr;
+}
+
+bool write_json(detail::AtomicOutput& out, const Context& context,
                 const std::vector<Result>& results) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << results_json(context, results);
-  out.close();
-  if (out) return true;
-  std::fprintf(stderr, "sphray: %s: cannot write the results\n", path.c_str());
-  return false;
+  try {
+    const std::string text = results_json(context, results);
+    out.write(text.data(), text.size());
+    out.commit();
+    return true;
+  } catch (const IoError& e) {
+    std::fprintf(stderr, "sphray: %s\n", e.what());
+    return false;
+  }
 }
 
 }  // namespace
@@ -185,6 +209,9 @@ int run_bench(const BenchArgs& args) {
     std::fprintf(stderr, "sphray: %s\n", e.what());
     return kExitUsage;
   }
+  int status = 0;
+  const std::unique_ptr<detail::AtomicOutput> json = open_json(args, status);
+  if (status != 0) return status;
   Context context{args.scene,   scene.spheres.size(), args.threads,
                   args.seconds, args.repetitions,     {}};
   double load[3];
@@ -220,7 +247,7 @@ int run_bench(const BenchArgs& args) {
               progress::duration_text(seconds_since(start)).c_str(),
               progress::duration_text(estimate).c_str());
   std::fflush(stdout);
-  if (!args.json.empty() && !write_json(args.json, context, results)) return kExitFailure;
+  if (json && !write_json(*json, context, results)) return kExitFailure;
   return 0;
 }
 

@@ -13,12 +13,14 @@ struct BenchArgs {
   double seconds = 0.5;  // per row, shared among its repetitions
   int repetitions = 3;
   std::string json;    // Google Benchmark-style output file, or empty
+  bool force = false;  // replace a read-only json file
   bool quiet = false;  // no progress on stderr
 };
 
 /// Runs the rows and prints them on stdout, one per line as each finishes. Returns the exit
-/// status: 0, 2 for a scene that cannot be loaded (the message says where in the file), 1 for a
-/// row that disagrees with the scalar reference or a JSON file that cannot be written.
+/// status: 0, 2 for a scene that cannot be loaded (the message says where in the file) or a
+/// JSON file that may not be replaced, 1 for a row that disagrees with the scalar reference or
+/// a JSON file that cannot be written. The JSON file is checked before any row is timed.
 int run_bench(const BenchArgs& args);
 
 }  // namespace sphray::render::bench

@@ -250,6 +250,7 @@ void add_bench_options(CLI::App& bench, sphray::render::bench::BenchArgs& args) 
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
   bench.add_option("--json", args.json, "Also write the results as Google Benchmark JSON");
+  bench.add_flag("--force,-f", args.force, "Replace the --json file even if it is read-only");
   bench.add_flag("--quiet,-q", args.quiet, "No progress line on stderr");
 }
 

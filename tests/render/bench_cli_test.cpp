@@ -208,10 +208,33 @@ TEST_F(BenchCli, RefusesUnknownRayKindsAndThreadCounts) {
   EXPECT_EQ(run("bench -s nosuch").status, 2);
 }
 
-TEST_F(BenchCli, AJsonFileThatCannotBeWrittenFailsTheRun) {
-  const Result r = run("bench -s single --rays camera --seconds 0 -q --json " + path("no/r.json"));
-  EXPECT_EQ(r.status, 1) << r.out;
-  EXPECT_NE(r.out.find("cannot write"), std::string::npos) << r.out;
+// Refused before any row is timed: nothing measured, the reason named, the old file kept.
+TEST_F(BenchCli, AJsonFileThatCannotBeWrittenIsRefusedBeforeTiming) {
+  fs::create_directory(path("dir"));
+  struct Case {
+    std::string json;
+    int status;
+    std::string reason;
+  };
+  for (const Case& c : {Case{path("no/r.json"), 1, "No such file or directory"},
+                        Case{path("dir"), 2, "directory"}, Case{"/dev/full", 2, "/dev/full"}}) {
+    const Result r = run("bench -s single --rays camera --seconds 0 -q --json " + c.json);
+    EXPECT_EQ(r.status, c.status) << c.json << ": " << r.out;
+    EXPECT_NE(r.out.find("sphray: " + c.json), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(c.reason), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("rows to time"), std::string::npos) << r.out;  // nothing timed
+  }
+  sphray::test::write_text(path("old.json"), "the previous results");
+  fs::permissions(path("old.json"), fs::perms::owner_read | fs::perms::group_read);
+  const Result refused =
+      run("bench -s single --rays camera --seconds 0 -q --json " + path("old.json"));
+  EXPECT_EQ(refused.status, 2) << refused.out;
+  EXPECT_NE(refused.out.find("read-only (use --force"), std::string::npos) << refused.out;
+  EXPECT_EQ(sphray::test::read_bytes(path("old.json")), "the previous results");
+  const Result forced =
+      run("bench -s single --rays camera --seconds 0 -q --force --json " + path("old.json"));
+  EXPECT_EQ(forced.status, 0) << forced.out;
+  EXPECT_NO_THROW(nlohmann::json::parse(sphray::test::read_bytes(path("old.json"))));
 }
 
 }  // namespace
