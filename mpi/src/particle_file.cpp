@@ -179,12 +179,12 @@ ParticleShare read_particle_share(MPI_Comm comm, const std::filesystem::path& fi
   if (first.status != 0) throw ParticleFileError(first.message);
   // Ranks that read different files (a node-local copy that differs, a file replaced while the
   // job starts) would read runs that overlap or leave gaps, and trace different spheres.
-  const Setting settings[] = {{"particle count", share.total},
-                              {"hash of the header and sampled records", hash, false}};
+  const Setting settings[] = {{"the particle count", share.total},
+                              {"the hash of the header and sampled records", hash, false}};
   const std::vector<Disagreement> differing = disagreements(comm, settings);
   if (!differing.empty()) {
-    throw ParticleFileError(file.string() +
-                            ": the ranks read different files: " + describe(differing) + " differ");
+    throw ParticleFileError(file.string() + ": the ranks read different files (they differ in " +
+                            describe(differing) + ")");
   }
   return share;
 }

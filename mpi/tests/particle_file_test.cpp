@@ -227,9 +227,10 @@ TEST(MpiParticleFile, RanksThatReadDifferentFilesAllRefuse) {
       sphray::mpi::read_particle_share(MPI_COMM_WORLD, file);
       ADD_FAILURE() << "rank " << rank() << " read a file the others do not have";
     } catch (const ParticleFileError& e) {
-      const std::string words = same_count ? "the ranks read different files: hash of the header"
-                                           : "the ranks read different files: particle count "
-                                             "(300 to 301)";
+      const std::string words =
+          same_count ? "the ranks read different files (they differ in the hash of the header"
+                     : "the ranks read different files (they differ in the particle count "
+                       "(300 to 301), the hash";
       EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
     }
     std::filesystem::remove(file);

@@ -77,8 +77,8 @@ int refuse_disagreement(std::span<const Setting> settings, MPI_Comm comm) {
   const std::vector<sphray::mpi::Disagreement> differing =
       sphray::mpi::disagreements(comm, settings);
   if (differing.empty()) return 0;
-  report("the ranks were given different input: " + sphray::mpi::describe(differing) +
-         " differ (every rank must read the same scene with the same options)");
+  report("the ranks' input differs in " + sphray::mpi::describe(differing) +
+         " (every rank must be given the same scene and options)");
   return kExitUsage;
 }
 
