@@ -49,8 +49,10 @@ struct Disagreement {
 inline constexpr std::size_t kMaxSettings = 31;
 
 /// The settings whose values differ between the ranks of comm, in the order given; the same
-/// list on every rank. One MPI_Allreduce of a fixed-size record. Throws std::length_error
-/// (before any collective) for more than kMaxSettings settings.
+/// list on every rank that passes the same names (a rank that passes fewer settings than
+/// another sees "the number of settings" differ, and only its own names). One MPI_Allreduce of a
+/// fixed-size record. Throws std::length_error (before any collective) for more than
+/// kMaxSettings settings.
 std::vector<Disagreement> disagreements(MPI_Comm comm, std::span<const Setting> settings);
 
 /// "what: a (1 to 2), b": one line for a message.
