@@ -91,6 +91,8 @@ std::uint64_t scene_hash(const Scene& scene) {
     hash.add_value(scene.spheres.radius(i));
     hash.add_value(scene.spheres.mask(i));
   }
+  hash.add_value(scene.colors.size());  // the counts keep colours and materials apart
+  hash.add_value(scene.materials.size());
   for (const sphray::Vec3& color : scene.colors)
     hash.add_value(color);
   for (const Material& m : scene.materials) {
@@ -213,9 +215,9 @@ int run_render(const RenderArgs& args, MPI_Comm comm) {
       {"--max-depth", static_cast<std::uint64_t>(options.max_depth)}};
   if (const int status = refuse_disagreement(input, comm)) return status;
 
-  int status = 0;
-  std::unique_ptr<PendingImageFile> output = open_output(args.output, args.force, comm, status);
-  if (status != 0) return status;
+  int opened = 0;
+  std::unique_ptr<PendingImageFile> output = open_output(args.output, args.force, comm, opened);
+  if (opened != 0) return opened;
   sphray::SphereSoA share;
   std::vector<std::uint32_t> ids;
   mine = {};
