@@ -1,11 +1,13 @@
 #include "sphray/mpi/distributed_scene.hpp"
 
 #include <algorithm>
+#include <new>
 #include <numeric>
 #include <stdexcept>
 #include <string>
 
 #include "reductions.hpp"
+#include "sphray/mpi/agreement.hpp"
 
 namespace sphray::mpi {
 namespace {
@@ -47,10 +49,12 @@ DistributedScene::DistributedScene(MPI_Comm comm, SphereView spheres,
                                    BvhBuildOptions options)
     : comm_(comm) {
   // A share refused on one rank must stop every rank, or the others would wait for it in the
-  // first reduction: the outcome travels with the sphere count.
-  enum Refusal : unsigned long long { kNone = 0, kInvalid = 1, kFailed = 2 };
-  std::string error;
-  unsigned long long refusal = kNone;
+  // first reduction: the ranks agree on the outcome, and every rank throws the first failing
+  // rank's message.
+  enum Refusal : int { kNone = 0, kInvalid = 1, kFailed = 2 };
+  RankError mine;
+  int rank = 0;
+  MPI_Comm_rank(comm_, &rank);
   const double start = MPI_Wtime();
   try {
     if (global_ids.size() != spheres.count)
@@ -58,20 +62,17 @@ DistributedScene::DistributedScene(MPI_Comm comm, SphereView spheres,
     const SphereSoA local = sorted_by_id(spheres, global_ids, ids_);
     bvh_ = SphereBVH(local.view(), options);
   } catch (const std::invalid_argument& e) {
-    error = e.what();
-    refusal = kInvalid;
-  } catch (const std::exception& e) {  // std::bad_alloc, std::length_error from the tree
-    error = e.what();
-    refusal = kFailed;
+    mine = {kInvalid, e.what()};
+  } catch (const std::bad_alloc&) {
+    mine = {kFailed, "out of memory building rank " + std::to_string(rank) + "'s tree over " +
+                         std::to_string(spheres.count) + " spheres"};
+  } catch (const std::exception& e) {  // std::length_error from the tree
+    mine = {kFailed, e.what()};
   }
   build_seconds_ = MPI_Wtime() - start;
-  unsigned long long worst = kNone;
-  MPI_Allreduce(&refusal, &worst, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, comm_);
-  if (worst != kNone) {
-    if (refusal == kNone) error = "another rank's spheres were refused";
-    if ((refusal != kNone ? refusal : worst) == kInvalid) throw std::invalid_argument(error);
-    throw std::runtime_error(error);
-  }
+  const RankError first = first_error(comm_, mine);
+  if (first.status == kInvalid) throw std::invalid_argument(first.message);
+  if (first.status != kNone) throw std::runtime_error(first.message);
   unsigned long long count = ids_.size(), total = 0;
   MPI_Allreduce(&count, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_);
   global_size_ = static_cast<std::size_t>(total);

@@ -9,9 +9,9 @@
 #include <bit>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <new>
 
+#include "sphray/mpi/agreement.hpp"
 #include "sphray/mpi/spatial_split.hpp"
 
 namespace sphray::mpi {
@@ -23,6 +23,9 @@ constexpr std::size_t kHeaderBytes = 32;
 constexpr std::size_t kRecordBytes = 16;
 constexpr std::size_t kChunkRecords = 65536;     // read 1 MiB at a time
 constexpr std::uint64_t kMaxParticles = kNoHit;  // ids 0 to 2^32 - 2: kNoHit is no id
+// Records every rank reads besides its own run, spread evenly over the file, and hashes with
+// the header: the ranks compare the hashes to find copies of the file that differ.
+constexpr std::uint64_t kSampleRecords = 256;
 
 [[noreturn]] void fail(const std::filesystem::path& file, const std::string& what) {
   throw ParticleFileError(file.string() + ": " + what);
@@ -46,8 +49,11 @@ float load_float(const unsigned char* bytes) {
 
 class File {
  public:
+  // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer, for ever, before
+  // the check that refuses it (ranks read at offsets, which only a regular file has). Reads of a
+  // regular file never block, so the flag changes nothing for the files that are accepted.
   explicit File(const std::filesystem::path& path) : path_(path) {
-    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
     if (fd_ < 0) fail(path, std::string("cannot open (") + std::strerror(errno) + ")");
   }
   ~File() { ::close(fd_); }
@@ -58,7 +64,9 @@ class File {
     struct stat st {};
     if (::fstat(fd_, &st) != 0)
       fail(path_, std::string("cannot stat (") + std::strerror(errno) + ")");
-    if (!S_ISREG(st.st_mode)) fail(path_, "not a regular file");
+    if (!S_ISREG(st.st_mode))
+      fail(path_, S_ISFIFO(st.st_mode) ? "not a regular file (a FIFO: ranks read at offsets)"
+                                       : "not a regular file");
     return static_cast<std::uint64_t>(st.st_size);
   }
 
@@ -107,10 +115,29 @@ std::uint64_t checked_count(const File& in, const std::filesystem::path& path) {
   return count;
 }
 
-ParticleShare read_run(const std::filesystem::path& path, int rank, int ranks) {
+// A hash of the header and of kSampleRecords records spread over the file, the same on every
+// rank that reads the same bytes. It cannot see every change (that would need every rank to read
+// the whole file), but it sees a file replaced by another or a copy that differs throughout.
+std::uint64_t sample_hash(const File& in, std::uint64_t total) {
+  Fnv1a hash;
+  std::array<unsigned char, kHeaderBytes> header;
+  in.read(header.data(), header.size(), 0);
+  hash.add(header.data(), header.size());
+  const std::uint64_t samples = std::min(total, kSampleRecords);
+  for (std::uint64_t k = 0; k < samples; ++k) {
+    std::array<unsigned char, kRecordBytes> record;
+    in.read(record.data(), record.size(), kHeaderBytes + (total * k / samples) * kRecordBytes);
+    hash.add(record.data(), record.size());
+  }
+  return hash.value();
+}
+
+ParticleShare read_run(const std::filesystem::path& path, int rank, int ranks,
+                       std::uint64_t& hash) {
   const File in(path);
   ParticleShare share;
   share.total = checked_count(in, path);
+  hash = sample_hash(in, share.total);
   const std::uint64_t first =
       share.total * static_cast<std::uint64_t>(rank) / static_cast<std::uint64_t>(ranks);
   const std::uint64_t end =
@@ -138,33 +165,38 @@ ParticleShare read_particle_share(MPI_Comm comm, const std::filesystem::path& fi
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
   ParticleShare share;
-  std::string error;
+  std::uint64_t hash = 0;
+  RankError mine;
   try {
-    share = read_run(file, rank, ranks);
+    share = read_run(file, rank, ranks, hash);
   } catch (const ParticleFileError& e) {
-    error = e.what();
+    mine = {1, e.what()};
   } catch (const std::bad_alloc&) {
-    error = file.string() + ": out of memory reading rank " + std::to_string(rank) + "'s part";
+    mine = {1, file.string() + ": out of memory reading rank " + std::to_string(rank) + "'s part"};
   }
-  // Every rank learns whether any failed, so that all stop together.
-  int failed = error.empty() ? 0 : 1, any = 0;
-  MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, comm);
-  if (any != 0) {
-    if (error.empty()) error = file.string() + ": another rank could not read its part";
-    throw ParticleFileError(error);
+  // Every rank learns whether any failed, and why, so that all stop together.
+  const RankError first = first_error(comm, mine);
+  if (first.status != 0) throw ParticleFileError(first.message);
+  // Ranks that read different files (a node-local copy that differs, a file replaced while the
+  // job starts) would read runs that overlap or leave gaps, and trace different spheres.
+  const Setting settings[] = {{"the particle count", share.total},
+                              {"the hash of the header and sampled records", hash, false}};
+  const std::vector<Disagreement> differing = disagreements(comm, settings);
+  if (!differing.empty()) {
+    throw ParticleFileError(file.string() + ": the ranks read different files (they differ in " +
+                            describe(differing) + ")");
   }
   return share;
 }
 
-void write_particles(const std::filesystem::path& file, SphereView spheres) {
-  if (spheres.count >= kMaxParticles) fail(file, "too many particles for one file");
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (!out) fail(file, std::string("cannot create (") + std::strerror(errno) + ")");
+void write_particles(const ByteSink& sink, SphereView spheres) {
+  if (spheres.count >= kMaxParticles)
+    throw ParticleFileError("too many particles for one file: at most 2^32 - 2");
   std::array<unsigned char, kHeaderBytes> header{};
   std::memcpy(header.data(), kMagic.data(), kMagic.size());
   store_le(&header[8], kVersion, 4);
   store_le(&header[16], spheres.count, 8);
-  out.write(reinterpret_cast<const char*>(header.data()), header.size());
+  sink(header.data(), header.size());
   std::vector<unsigned char> chunk;
   chunk.reserve(kChunkRecords * kRecordBytes);
   const std::vector<std::uint32_t> order = morton_order(spheres);
@@ -176,13 +208,10 @@ void write_particles(const std::filesystem::path& file, SphereView spheres) {
       chunk.insert(chunk.end(), bytes, bytes + 4);
     }
     if (chunk.size() == chunk.capacity() || k + 1 == order.size()) {
-      out.write(reinterpret_cast<const char*>(chunk.data()),
-                static_cast<std::streamsize>(chunk.size()));
+      sink(chunk.data(), chunk.size());
       chunk.clear();
     }
   }
-  out.close();
-  if (!out) fail(file, "write error");
 }
 
 }  // namespace sphray::mpi

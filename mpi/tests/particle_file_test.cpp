@@ -4,6 +4,7 @@
 // went on to a reduction the others never reach).
 #include <gtest/gtest.h>
 #include <mpi.h>
+#include <sys/stat.h>
 
 #include <bit>
 #include <cstring>
@@ -45,6 +46,16 @@ void write_on_rank0(const std::filesystem::path& file, const std::vector<unsigne
   MPI_Barrier(MPI_COMM_WORLD);
 }
 
+// The particle file of spheres, written with the library's encoder to an ordinary stream.
+void write_file(const std::filesystem::path& file, sphray::SphereView spheres) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  sphray::mpi::write_particles(
+      [&](const void* data, std::size_t size) {
+        out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
+      },
+      spheres);
+}
+
 std::vector<unsigned char> read_all(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -84,7 +95,7 @@ sphray::SphereSoA random_spheres(std::size_t n) {
 TEST(MpiParticleFile, RanksReadTheWholeFileAndAnswerAsOneProcess) {
   const auto file = scratch("good.sphp");
   const sphray::SphereSoA written = random_spheres(2500);
-  if (rank() == 0) sphray::mpi::write_particles(file, written.view());
+  if (rank() == 0) write_file(file, written.view());
   MPI_Barrier(MPI_COMM_WORLD);
   const std::vector<unsigned char> bytes = read_all(file);
   ASSERT_EQ(bytes.size(), 32u + 16u * 2500u);
@@ -138,7 +149,7 @@ void expect_refused(const std::string& name, const std::vector<unsigned char>& b
 
 TEST(MpiParticleFile, BrokenFilesAreRefusedOnEveryRank) {
   const auto good_file = scratch("source.sphp");
-  if (rank() == 0) sphray::mpi::write_particles(good_file, random_spheres(40).view());
+  if (rank() == 0) write_file(good_file, random_spheres(40).view());
   MPI_Barrier(MPI_COMM_WORLD);
   const std::vector<unsigned char> good = read_all(good_file);
   MPI_Barrier(MPI_COMM_WORLD);
@@ -169,6 +180,61 @@ TEST(MpiParticleFile, BrokenFilesAreRefusedOnEveryRank) {
     ADD_FAILURE() << "a missing file was read";
   } catch (const ParticleFileError& e) {
     EXPECT_NE(std::string(e.what()).find("cannot open"), std::string::npos) << e.what();
+  }
+}
+
+// A FIFO has no offsets to read at: it is refused at once, where opening it for reading would
+// wait for a writer for ever (ctest's timeout would catch that).
+TEST(MpiParticleFile, AFifoIsRefusedWithoutWaiting) {
+  const auto fifo = scratch("fifo.sphp");
+  if (rank() == 0) {
+    std::filesystem::remove(fifo);
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  try {
+    sphray::mpi::read_particle_share(MPI_COMM_WORLD, fifo);
+    ADD_FAILURE() << "a FIFO was read";
+  } catch (const ParticleFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("not a regular file (a FIFO"), std::string::npos)
+        << e.what();
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank() == 0) std::filesystem::remove(fifo);
+}
+
+// Ranks whose copies of a file differ (node-local files, a file replaced as the job starts):
+// every rank refuses, naming what differs, where they would read runs of different files.
+TEST(MpiParticleFile, RanksThatReadDifferentFilesAllRefuse) {
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  if (ranks < 2) GTEST_SKIP() << "needs two ranks";
+  // Each rank its own file: the last rank's differs from the others' in its count, or (second
+  // round) in one coordinate of every particle, with the same count.
+  for (const bool same_count : {false, true}) {
+    const bool odd = rank() == ranks - 1;
+    sphray::SphereSoA spheres = random_spheres(odd && !same_count ? 301 : 300);
+    if (odd && same_count) {
+      sphray::SphereSoA moved;
+      for (std::uint32_t i = 0; i < spheres.size(); ++i) {
+        moved.add(spheres.center(i) + sphray::Vec3{0.5f, 0, 0}, spheres.radius(i));
+      }
+      spheres = moved;
+    }
+    const auto file = scratch("rank" + std::to_string(rank()) + ".sphp");
+    write_file(file, spheres.view());
+    try {
+      sphray::mpi::read_particle_share(MPI_COMM_WORLD, file);
+      ADD_FAILURE() << "rank " << rank() << " read a file the others do not have";
+    } catch (const ParticleFileError& e) {
+      const std::string words =
+          same_count ? "the ranks read different files (they differ in the hash of the header"
+                     : "the ranks read different files (they differ in the particle count "
+                       "(300 to 301), the hash";
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+    std::filesystem::remove(file);
+    MPI_Barrier(MPI_COMM_WORLD);
   }
 }
 

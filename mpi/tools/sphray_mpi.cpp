@@ -9,6 +9,9 @@
 // so the image is the single-process `sphray render`'s, byte for byte, whatever the rank count.
 // Rank 0 writes the image and prints. Exit status as sphray's: 2 for bad usage or input, 1 for
 // a failure while running; every rank exits with the same status, so none waits for another.
+// Before any work the ranks agree: on whether any of them met an error (the lowest such rank's
+// message is printed, once), and on their input (the subcommand, the scene, the options), so
+// that an MPMD launch or a node-local file that differs between nodes is refused, not traced.
 #include <mpi.h>
 
 #include <CLI/CLI.hpp>
@@ -16,9 +19,13 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <new>
+#include <optional>
 #include <string>
 
+#include "atomic_output.hpp"
 #include "render_args.hpp"
+#include "sphray/mpi/agreement.hpp"
 #include "sphray/mpi/distributed_scene.hpp"
 #include "sphray/mpi/particle_file.hpp"
 #include "sphray/mpi/spatial_split.hpp"
@@ -30,6 +37,8 @@ namespace {
 
 using namespace sphray::render;
 using sphray::mpi::DistributedScene;
+using sphray::mpi::RankError;
+using sphray::mpi::Setting;
 
 constexpr int kExitIo = 1;
 constexpr int kExitUsage = 2;
@@ -51,6 +60,57 @@ void report(const std::string& message) {
   if (rank_of(MPI_COMM_WORLD) == 0) std::fprintf(stderr, "sphray-mpi: %s\n", message.c_str());
 }
 
+// The status every rank exits with, given this rank's error ({0, ""}: none): the lowest failing
+// rank's, whose message rank 0 prints (naming that rank if it is another). Collective.
+int agreed_status(const RankError& mine, MPI_Comm comm) {
+  const RankError first = sphray::mpi::first_error(comm, mine);
+  if (first.status != 0 && rank_of(comm) == 0) {
+    const std::string from = first.rank != 0 ? "rank " + std::to_string(first.rank) + ": " : "";
+    std::fprintf(stderr, "sphray-mpi: %s%s\n", from.c_str(), first.message.c_str());
+  }
+  return first.status;
+}
+
+// 0 if every rank holds the same settings; otherwise kExitUsage on every rank, after rank 0 names
+// the settings that differ. Collective.
+int refuse_disagreement(std::span<const Setting> settings, MPI_Comm comm) {
+  const std::vector<sphray::mpi::Disagreement> differing =
+      sphray::mpi::disagreements(comm, settings);
+  if (differing.empty()) return 0;
+  report("the ranks' input differs in " + sphray::mpi::describe(differing) +
+         " (every rank must be given the same scene and options)");
+  return kExitUsage;
+}
+
+// A hash of everything in a scene that the image depends on: the spheres (centres, radii,
+// masks), their colours and materials, the sky and the camera.
+std::uint64_t scene_hash(const Scene& scene) {
+  sphray::mpi::Fnv1a hash;
+  for (std::uint32_t i = 0; i < scene.spheres.size(); ++i) {
+    hash.add_value(scene.spheres.center(i));
+    hash.add_value(scene.spheres.radius(i));
+    hash.add_value(scene.spheres.mask(i));
+  }
+  hash.add_value(scene.colors.size());  // the counts keep colours and materials apart
+  hash.add_value(scene.materials.size());
+  for (const sphray::Vec3& color : scene.colors)
+    hash.add_value(color);
+  for (const Material& m : scene.materials) {
+    hash.add_value(m.kind);
+    hash.add_value(m.albedo);
+    hash.add_value(m.fuzz);
+    hash.add_value(m.ior);
+  }
+  hash.add_value(scene.sky.horizon);
+  hash.add_value(scene.sky.zenith);
+  const CameraSpec& c = scene.camera;
+  for (const sphray::Vec3& v : {c.lookfrom, c.lookat, c.vup})
+    hash.add_value(v);
+  for (float f : {c.vfov, c.defocus_angle, c.focus_dist})
+    hash.add_value(f);
+  return hash.value();
+}
+
 // The renderer's queries answered by every rank's share of the spheres together.
 class DistributedQueries final : public RayQueries {
  public:
@@ -67,26 +127,24 @@ class DistributedQueries final : public RayQueries {
   const DistributedScene& scene_;
 };
 
-// The scene's spheres this rank keeps, with their ids in the scene.
-DistributedScene distribute(const Scene& scene, MPI_Comm comm) {
-  const sphray::SphereView all = scene.spheres.view();
-  const std::vector<std::uint32_t> ids =
-      sphray::mpi::spatial_share(all, rank_of(comm), size_of(comm));
-  sphray::SphereSoA mine;
+// The scene's spheres this rank keeps, with their ids in the scene. Throws std::bad_alloc.
+void take_share(const Scene& scene, MPI_Comm comm, sphray::SphereSoA& mine,
+                std::vector<std::uint32_t>& ids) {
+  ids = sphray::mpi::spatial_share(scene.spheres.view(), rank_of(comm), size_of(comm));
   mine.reserve(ids.size());
   for (std::uint32_t id : ids)
     mine.add(scene.spheres.center(id), scene.spheres.radius(id), scene.spheres.mask(id));
-  return DistributedScene(comm, mine.view(), ids);
 }
 
 // Rank 0 opens the output before any ray is traced; the others learn whether it could.
-std::unique_ptr<PendingImageFile> open_output(const std::string& path, MPI_Comm comm, int& status) {
+std::unique_ptr<PendingImageFile> open_output(const std::string& path, bool force, MPI_Comm comm,
+                                              int& status) {
   std::unique_ptr<PendingImageFile> output;
   status = 0;
   if (rank_of(comm) == 0) {
     try {
-      output = std::make_unique<PendingImageFile>(path);
-    } catch (const std::invalid_argument& e) {
+      output = std::make_unique<PendingImageFile>(path, force);
+    } catch (const std::invalid_argument& e) {  // OutputRefused among them
       std::fprintf(stderr, "sphray-mpi: %s\n", e.what());
       status = kExitUsage;
     } catch (const IoError& e) {
@@ -98,6 +156,7 @@ std::unique_ptr<PendingImageFile> open_output(const std::string& path, MPI_Comm 
   return output;
 }
 
+// Collective whatever rank 0's --quiet, which only decides whether it prints.
 void print_summary(const RenderArgs& args, const RenderOptions& options, const RenderStats& stats,
                    const DistributedScene& scene) {
   MPI_Comm comm = scene.comm();
@@ -105,7 +164,7 @@ void print_summary(const RenderArgs& args, const RenderOptions& options, const R
   unsigned long long bytes = scene.local_bytes(), largest = 0;
   MPI_Reduce(&reduce, &slowest_reduce, 1, MPI_DOUBLE, MPI_MAX, 0, comm);
   MPI_Reduce(&bytes, &largest, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, 0, comm);
-  if (rank_of(comm) != 0) return;
+  if (rank_of(comm) != 0 || args.quiet) return;
   const std::uint64_t rays = stats.camera_rays + stats.bounce_rays + stats.shadow_rays;
   std::printf(
       "wrote %s: %dx%d, %d spp, %s, %d ranks, %.3f s, %.0f rays/s (%llu camera + %llu bounce + "
@@ -120,57 +179,110 @@ void print_summary(const RenderArgs& args, const RenderOptions& options, const R
 }
 
 int run_render(const RenderArgs& args, MPI_Comm comm) {
+  // Each rank reads the scene and checks the options; then the ranks agree on the outcome and
+  // on the input before any collective the renderer makes.
+  RankError mine;
+  std::optional<Scene> scene;
+  RenderOptions options;
   if (!image_format_for(args.output)) {
-    report(args.output + ": expected an output file ending in .png or .ppm");
-    return kExitUsage;
+    mine = {kExitUsage, args.output + ": expected an output file ending in .png or .ppm"};
+  } else {
+    try {
+      scene = load_scene_or_preset(args.scene);
+      options.mode = *parse_mode(args.mode);  // CLI11 checked the name
+      options.width = args.width > 0 ? args.width : scene->width;
+      options.height = args.height > 0 ? args.height : scene->height;
+      options.spp = args.spp;
+      options.seed = args.seed;
+      options.max_depth = args.max_depth;
+    } catch (const SceneError& e) {
+      mine = {kExitUsage, e.what()};
+    } catch (const std::invalid_argument& e) {
+      mine = {kExitUsage, e.what()};
+    } catch (const std::bad_alloc&) {
+      mine = {kExitIo, args.scene + ": out of memory while building the scene"};
+    }
   }
+  if (const int status = agreed_status(mine, comm)) return status;
+  const Setting input[] = {
+      {"the scene's sphere count", scene->spheres.size()},
+      {"the scene (hash of its spheres, materials and camera)", scene_hash(*scene), false},
+      {"--mode", static_cast<std::uint64_t>(options.mode)},
+      {"the image width", static_cast<std::uint64_t>(options.width)},
+      {"the image height", static_cast<std::uint64_t>(options.height)},
+      {"--spp", static_cast<std::uint64_t>(options.spp)},
+      {"--seed", options.seed},
+      {"--max-depth", static_cast<std::uint64_t>(options.max_depth)}};
+  if (const int status = refuse_disagreement(input, comm)) return status;
+
+  int opened = 0;
+  std::unique_ptr<PendingImageFile> output = open_output(args.output, args.force, comm, opened);
+  if (opened != 0) return opened;
+  sphray::SphereSoA share;
+  std::vector<std::uint32_t> ids;
+  mine = {};
   try {
-    // Deterministic on every rank: a scene or option error is met by all alike.
-    const Scene scene = load_scene_or_preset(args.scene);
-    RenderOptions options;
-    options.mode = *parse_mode(args.mode);  // CLI11 checked the name
-    options.width = args.width > 0 ? args.width : scene.width;
-    options.height = args.height > 0 ? args.height : scene.height;
-    options.spp = args.spp;
-    options.seed = args.seed;
-    options.max_depth = args.max_depth;
-    int status = 0;
-    std::unique_ptr<PendingImageFile> output = open_output(args.output, comm, status);
-    if (status != 0) return status;
-    const DistributedScene distributed = distribute(scene, comm);
-    const DistributedQueries queries(distributed);
-    RenderStats stats;
-    const Image image = render(scene, queries, options, {}, &stats);
-    if (output) output->commit(image);
-    if (!args.quiet) print_summary(args, options, stats, distributed);
-    return 0;
-  } catch (const SceneError& e) {
+    take_share(*scene, comm, share, ids);
+  } catch (const std::bad_alloc&) {
+    mine = {kExitIo, "out of memory taking this rank's share of " +
+                         std::to_string(scene->spheres.size()) + " spheres"};
+  }
+  if (const int status = agreed_status(mine, comm)) return status;
+  std::unique_ptr<DistributedScene> distributed;
+  try {
+    distributed = std::make_unique<DistributedScene>(comm, share.view(), ids);
+  } catch (const std::invalid_argument& e) {  // the ranks agreed on it: every rank is here
     report(e.what());
     return kExitUsage;
-  } catch (const std::invalid_argument& e) {
+  } catch (const std::runtime_error& e) {
     report(e.what());
-    return kExitUsage;
-  } catch (const IoError& e) {
-    std::fprintf(stderr, "sphray-mpi: %s\n", e.what());  // rank 0's alone: the others are done
     return kExitIo;
   }
+  const DistributedQueries queries(*distributed);
+  RenderStats stats;
+  const Image image = render(*scene, queries, options, {}, &stats);
+  // Rank 0 writes the image; the others wait to learn whether it could, and exit alike.
+  mine = {};
+  if (output) {
+    try {
+      output->commit(image);
+    } catch (const IoError& e) {
+      mine = {kExitIo, e.what()};
+    }
+  }
+  if (const int status = agreed_status(mine, comm)) return status;
+  print_summary(args, options, stats, *distributed);
+  return 0;
 }
 
 // generate: a scene's spheres (a preset such as random:N, or a scene file) as a particle file.
-// Rank 0 writes it; the other ranks, if any, have nothing to do.
-int run_generate(const std::string& scene_name, const std::string& output, MPI_Comm comm) {
-  if (rank_of(comm) != 0) return 0;
-  try {
-    const Scene scene = load_scene_or_preset(scene_name);
-    sphray::mpi::write_particles(output, scene.spheres.view());
-    return 0;
-  } catch (const SceneError& e) {
-    report(e.what());
-    return kExitUsage;
-  } catch (const sphray::mpi::ParticleFileError& e) {
-    report(e.what());
-    return kExitIo;
+// Rank 0 writes it, as `sphray render -o` writes an image: the output is checked before the
+// scene is built (a read-only file is refused unless force) and replaced atomically, so a failure
+// leaves it as it was. The other ranks, if any, wait for rank 0's status and exit with it.
+int run_generate(const std::string& scene_name, const std::string& output, bool force,
+                 MPI_Comm comm) {
+  RankError mine;
+  if (rank_of(comm) == 0) {
+    try {
+      sphray::render::detail::AtomicOutput file(output, force);
+      const Scene scene = load_scene_or_preset(scene_name);
+      sphray::mpi::write_particles(
+          [&](const void* data, std::size_t size) { file.write(data, size); },
+          scene.spheres.view());
+      file.commit();
+    } catch (const SceneError& e) {
+      mine = {kExitUsage, e.what()};
+    } catch (const std::invalid_argument& e) {  // OutputRefused among them
+      mine = {kExitUsage, e.what()};
+    } catch (const sphray::mpi::ParticleFileError& e) {
+      mine = {kExitUsage, e.what()};
+    } catch (const IoError& e) {
+      mine = {kExitIo, e.what()};
+    } catch (const std::bad_alloc&) {
+      mine = {kExitIo, scene_name + ": out of memory while building the scene"};
+    }
   }
+  return agreed_status(mine, comm);
 }
 
 struct BenchArgs {
@@ -222,47 +334,67 @@ sphray::Ray view_ray(std::uint64_t i, std::uint64_t side, sphray::Vec3 lo, sphra
 
 // bench: reads a particle file over the ranks, builds, traces closest-hit rays in batches, and
 // prints one line of figures (the slowest rank's where ranks differ).
+// The ranks must trace the same batches: every one of them calls a reduction per batch.
 int run_bench(const BenchArgs& args, MPI_Comm comm) {
+  const Setting options[] = {{"--rays", args.rays},
+                             {"--batch", static_cast<std::uint64_t>(args.batch)},
+                             {"--beside", args.beside ? 1u : 0u}};
+  if (const int status = refuse_disagreement(options, comm)) return status;
+  sphray::mpi::ParticleShare share;
+  MPI_Barrier(comm);
+  double start = MPI_Wtime();
   try {
-    MPI_Barrier(comm);
-    double start = MPI_Wtime();
-    const sphray::mpi::ParticleShare share = sphray::mpi::read_particle_share(comm, args.particles);
-    const double read_seconds = max_over_ranks(MPI_Wtime() - start, comm);
-    const DistributedScene scene(comm, share.spheres.view(), share.ids);
-    const double build_seconds = max_over_ranks(scene.build_seconds(), comm);
-    const double bytes = max_over_ranks(static_cast<double>(scene.local_bytes()), comm);
-    const auto [lo, hi] = global_bounds(share.spheres, comm);
-    const auto side =
-        static_cast<std::uint64_t>(std::ceil(std::sqrt(static_cast<double>(args.rays))));
-    std::vector<sphray::Ray> rays(args.batch);
-    std::vector<sphray::Hit> hits(args.batch);
-    std::uint64_t found = 0;
-    MPI_Barrier(comm);
-    start = MPI_Wtime();
-    for (std::uint64_t first = 0; first < args.rays; first += args.batch) {
-      const std::size_t n =
-          static_cast<std::size_t>(std::min<std::uint64_t>(args.batch, args.rays - first));
-      for (std::size_t k = 0; k < n; ++k)
-        rays[k] = view_ray(first + k, side, lo, hi, args.beside);
-      scene.intersect(std::span(rays.data(), n), std::span(hits.data(), n));
-      for (std::size_t k = 0; k < n; ++k)
-        found += hits[k].found() ? 1 : 0;
-    }
-    const double trace_seconds = max_over_ranks(MPI_Wtime() - start, comm);
-    const double reduce_seconds = max_over_ranks(scene.times().reduce, comm);
-    const double local_seconds = max_over_ranks(scene.times().local, comm);
-    if (rank_of(comm) == 0) {
-      std::printf("| %d | %zu | %.1f | %.2f | %.2f | %.3g | %.2f | %.2f | %.1f%% |\n",
-                  size_of(comm), scene.global_size(), bytes / (1 << 20), read_seconds,
-                  build_seconds, static_cast<double>(args.rays) / trace_seconds, local_seconds,
-                  reduce_seconds,
-                  100.0 * static_cast<double>(found) / static_cast<double>(args.rays));
-    }
-    return 0;
+    share = sphray::mpi::read_particle_share(comm, args.particles);  // the ranks agree in it
   } catch (const sphray::mpi::ParticleFileError& e) {
     report(e.what());
     return kExitUsage;
   }
+  const double read_seconds = max_over_ranks(MPI_Wtime() - start, comm);
+  std::unique_ptr<DistributedScene> built;
+  try {
+    built = std::make_unique<DistributedScene>(comm, share.spheres.view(), share.ids);
+  } catch (const std::runtime_error& e) {  // out of memory: the ranks agreed, every rank is here
+    report(args.particles + ": " + e.what());
+    return kExitIo;
+  }
+  const DistributedScene& scene = *built;
+  const double build_seconds = max_over_ranks(scene.build_seconds(), comm);
+  const double bytes = max_over_ranks(static_cast<double>(scene.local_bytes()), comm);
+  const auto [lo, hi] = global_bounds(share.spheres, comm);
+  const auto side =
+      static_cast<std::uint64_t>(std::ceil(std::sqrt(static_cast<double>(args.rays))));
+  std::vector<sphray::Ray> rays;
+  std::vector<sphray::Hit> hits;
+  RankError mine;
+  try {
+    rays.resize(args.batch);
+    hits.resize(args.batch);
+  } catch (const std::bad_alloc&) {
+    mine = {kExitIo, "out of memory for a batch of " + std::to_string(args.batch) + " rays"};
+  }
+  if (const int status = agreed_status(mine, comm)) return status;
+  std::uint64_t found = 0;
+  MPI_Barrier(comm);
+  start = MPI_Wtime();
+  for (std::uint64_t first = 0; first < args.rays; first += args.batch) {
+    const std::size_t n =
+        static_cast<std::size_t>(std::min<std::uint64_t>(args.batch, args.rays - first));
+    for (std::size_t k = 0; k < n; ++k)
+      rays[k] = view_ray(first + k, side, lo, hi, args.beside);
+    scene.intersect(std::span(rays.data(), n), std::span(hits.data(), n));
+    for (std::size_t k = 0; k < n; ++k)
+      found += hits[k].found() ? 1 : 0;
+  }
+  const double trace_seconds = max_over_ranks(MPI_Wtime() - start, comm);
+  const double reduce_seconds = max_over_ranks(scene.times().reduce, comm);
+  const double local_seconds = max_over_ranks(scene.times().local, comm);
+  if (rank_of(comm) == 0) {
+    std::printf("| %d | %zu | %.1f | %.2f | %.2f | %.3g | %.2f | %.2f | %.1f%% |\n", size_of(comm),
+                scene.global_size(), bytes / (1 << 20), read_seconds, build_seconds,
+                static_cast<double>(args.rays) / trace_seconds, local_seconds, reduce_seconds,
+                100.0 * static_cast<double>(found) / static_cast<double>(args.rays));
+  }
+  return 0;
 }
 
 int run(int argc, char** argv, MPI_Comm comm) {
@@ -273,12 +405,14 @@ int run(int argc, char** argv, MPI_Comm comm) {
   // One process's threads, clock and file policy have no meaning across ranks: the tiles run
   // in order on each rank, and a time limit would differ between clocks.
   add_render_options(*render, render_args,
-                     {.threads = false, .time_limit = false, .accel = false, .force = false});
+                     {.threads = false, .time_limit = false, .accel = false, .force = true});
   std::string generate_scene, generate_output;
+  bool generate_force = false;
   CLI::App* generate =
       app.add_subcommand("generate", "Write a scene's spheres (e.g. random:N) as a particle file");
   generate->add_option("scene", generate_scene, "A preset (random:N) or a .json scene")->required();
   generate->add_option("-o,--output", generate_output, "The particle file to write")->required();
+  generate->add_flag("--force,-f", generate_force, "Replace the output even if it is read-only");
   BenchArgs bench_args;
   CLI::App* bench = app.add_subcommand(
       "bench", "Read a particle file over the ranks, build, trace; print one table row");
@@ -291,30 +425,49 @@ int run(int argc, char** argv, MPI_Comm comm) {
       ->capture_default_str();
   bench->add_flag("--beside", bench_args.beside,
                   "Aim every ray beside the spheres: the cost of a tree's root alone");
+  // Every rank parses its own arguments (an MPMD launch gives each its own): the ranks agree on
+  // the outcome and on the subcommand before any of them starts one.
+  enum Command : std::uint64_t { kHelp = 0, kRender = 1, kGenerate = 2, kBench = 3 };
+  RankError parsed;
+  std::uint64_t command = kHelp;
+  int help_status = 0;
   try {
     app.parse(argc, argv);
+    command = *render ? kRender : *generate ? kGenerate : kBench;
   } catch (const CLI::Success& e) {
-    return rank_of(comm) == 0 ? app.exit(e) : 0;
+    if (rank_of(comm) == 0) help_status = app.exit(e);
   } catch (const CLI::ParseError& e) {
     const std::string message = e.what();
-    report(message.substr(0, message.find('\n')) + " (see sphray-mpi --help)");
-    return kExitUsage;
+    parsed = {kExitUsage, message.substr(0, message.find('\n')) + " (see sphray-mpi --help)"};
   }
-  if (*render) return run_render(render_args, comm);
-  if (*generate) return run_generate(generate_scene, generate_output, comm);
-  if (*bench) return run_bench(bench_args, comm);
-  return kExitUsage;
+  if (const int status = agreed_status(parsed, comm)) return status;
+  const Setting which[] = {{"the subcommand (or --help)", command, false}};
+  if (const int status = refuse_disagreement(which, comm)) return status;
+  switch (command) {
+    case kRender:
+      return run_render(render_args, comm);
+    case kGenerate:
+      return run_generate(generate_scene, generate_output, generate_force, comm);
+    case kBench:
+      return run_bench(bench_args, comm);
+    default:
+      return help_status;
+  }
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
+  // A named temporary output (file systems without O_TMPFILE) is removed on a fatal signal, as
+  // `sphray render` does; installed after MPI_Init, whose own handlers are left as they are.
+  remove_temporaries_on_signals();
   int status = kExitIo;
   try {
     status = run(argc, argv, MPI_COMM_WORLD);
   } catch (const std::exception& e) {
-    // Unexpected, and perhaps on one rank alone: end the whole job rather than leave the
+    // Unexpected, and perhaps on one rank alone, in the middle of the collectives (every error
+    // that can be met before them is agreed on above): end the whole job rather than leave the
     // others waiting in a reduction.
     std::fprintf(stderr, "sphray-mpi: rank %d: %s\n", rank_of(MPI_COMM_WORLD), e.what());
     MPI_Abort(MPI_COMM_WORLD, kExitIo);

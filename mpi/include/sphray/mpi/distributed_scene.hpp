@@ -38,8 +38,9 @@ class DistributedScene {
   /// This rank's share: spheres[i] has global id global_ids[i]. Collective over comm. Throws
   /// std::invalid_argument if the sizes differ, an id is kNoHit or an id repeats on this rank
   /// (ids must be unique across ranks as well; that is the caller's promise), and
-  /// std::runtime_error if the tree cannot be built; the ranks agree first, so when one rank's
-  /// share is refused every rank throws ("another rank's spheres were refused").
+  /// std::runtime_error if the tree cannot be built (out of memory: a message naming the rank);
+  /// the ranks agree first, so when one rank's share is refused every rank throws, with the
+  /// message of the lowest rank refused.
   DistributedScene(MPI_Comm comm, SphereView spheres, std::span<const std::uint32_t> global_ids,
                    BvhBuildOptions options = {});
   ~DistributedScene();

@@ -16,8 +16,10 @@
 
 #include <mpi.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -39,13 +41,23 @@ struct ParticleShare {
   std::uint64_t total = 0;  // particles in the whole file
 };
 
-/// Rank r of p reads particles [total * r / p, total * (r + 1) / p). Collective over comm: the
+/// Rank r of p reads particles [total * r / p, total * (r + 1) / p). Only a regular file is
+/// read (a FIFO or a device is refused at once, never waited on). Collective over comm: the
 /// ranks agree on the outcome, so when any of them cannot read its part every rank throws
-/// ParticleFileError (naming the problem where it knows it), and none is left waiting.
+/// ParticleFileError with the lowest such rank's message, and none is left waiting. The ranks
+/// also compare the particle count and a hash of the header and of 256 records spread over the
+/// file, and every rank throws if they differ: the ranks read different files.
 ParticleShare read_particle_share(MPI_Comm comm, const std::filesystem::path& file);
 
-/// Writes spheres as a particle file, in Morton order of their centres (the ids in the file
-/// are then positions in that order, not spheres' ids). Throws ParticleFileError.
-void write_particles(const std::filesystem::path& file, SphereView spheres);
+/// Receives a file's bytes, in order, a piece at a time; throws to stop the writing.
+using ByteSink = std::function<void(const void* data, std::size_t size)>;
+
+/// The particle file of spheres, in Morton order of their centres (the ids in the file are then
+/// positions in that order, not spheres' ids), given to sink in pieces of at most 1 MiB. Throws
+/// ParticleFileError for 2^32 - 1 spheres or more (before any byte); what sink throws passes
+/// through. To write a file, give a sink that writes a temporary file renamed over the target
+/// once complete, so that a failure never destroys the file replaced (sphray-mpi generate uses
+/// the renderer's atomic output).
+void write_particles(const ByteSink& sink, SphereView spheres);
 
 }  // namespace sphray::mpi
