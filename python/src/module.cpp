@@ -187,6 +187,28 @@ bool constructed(py::handle self) {
   return instance->get_value_and_holder().holder_constructed();
 }
 
+// The Scene self holds. pybind11 hands a method an instance whose __init__ never ran
+// (sphray.Scene.__new__(sphray.Scene)) as if it held one, and the method then reads garbage:
+// every method reaches its Scene through here instead, and such an instance raises.
+Scene& scene_in(py::handle self) {
+  if (!py::isinstance<Scene>(self)) {
+    throw py::type_error("expected a sphray.Scene, got " +
+                         std::string(py::str(py::type::of(self))));
+  }
+  if (!constructed(self)) throw std::runtime_error("sphray.Scene: __init__ was never called");
+  return self.cast<Scene&>();
+}
+
+// method as a binding that takes self through scene_in().
+template <typename R, typename... A>
+auto on_scene(R (Scene::*method)(A...) const) {
+  return [method](py::handle self, A... args) -> R { return (scene_in(self).*method)(args...); };
+}
+template <typename R, typename... A>
+auto on_scene(R (Scene::*method)(A...)) {
+  return [method](py::handle self, A... args) -> R { return (scene_in(self).*method)(args...); };
+}
+
 std::vector<std::string> supported_isa_names() {
   std::vector<std::string> names;
   for (sphray::Isa isa : sphray::supported_isas())
@@ -209,39 +231,40 @@ PYBIND11_MODULE(sphray, m) {
       .def(py::init<const py::handle&, const py::handle&, const std::string&, const py::handle&>(),
            py::arg("centers"), py::arg("radii"), py::arg("accel") = "auto",
            py::arg("masks") = py::none(), kInitDoc)
-      .def("intersect", &Scene::intersect, py::arg("origins"), py::arg("directions"),
+      .def("intersect", on_scene(&Scene::intersect), py::arg("origins"), py::arg("directions"),
            py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits,
            kIntersectDoc)
-      .def("occluded", &Scene::occluded, py::arg("origins"), py::arg("directions"),
+      .def("occluded", on_scene(&Scene::occluded), py::arg("origins"), py::arg("directions"),
            py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits,
            kOccludedDoc)
-      .def("surface", &Scene::surface, py::arg("origins"), py::arg("directions"), py::arg("t"),
-           py::arg("ids"), kSurfaceDoc)
-      .def("spawn", &Scene::spawn, py::arg("origins"), py::arg("directions"), py::arg("t"),
-           py::arg("ids"), py::arg("new_directions"), kSpawnDoc)
-      .def("intersect_all", &Scene::intersect_all, py::arg("origins"), py::arg("directions"),
-           py::arg("max_hits") = 16, py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY,
-           py::arg("mask") = sphray::kAllBits, kIntersectAllDoc)
-      .def("count_hits", &Scene::count_hits, py::arg("origins"), py::arg("directions"),
+      .def("surface", on_scene(&Scene::surface), py::arg("origins"), py::arg("directions"),
+           py::arg("t"), py::arg("ids"), kSurfaceDoc)
+      .def("spawn", on_scene(&Scene::spawn), py::arg("origins"), py::arg("directions"),
+           py::arg("t"), py::arg("ids"), py::arg("new_directions"), kSpawnDoc)
+      .def("intersect_all", on_scene(&Scene::intersect_all), py::arg("origins"),
+           py::arg("directions"), py::arg("max_hits") = 16, py::arg("tmin") = 0.0,
+           py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits, kIntersectAllDoc)
+      .def("count_hits", on_scene(&Scene::count_hits), py::arg("origins"), py::arg("directions"),
            py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits,
            kCountHitsDoc)
-      .def("nearest", &Scene::nearest, py::arg("points"), py::arg("max_distance") = INFINITY,
-           kNearestDoc)
-      .def("inside", &Scene::inside, py::arg("points"), kInsideDoc)
-      .def("overlapping", &Scene::overlapping, py::arg("centre"), py::arg("radius"),
+      .def("nearest", on_scene(&Scene::nearest), py::arg("points"),
+           py::arg("max_distance") = INFINITY, kNearestDoc)
+      .def("inside", on_scene(&Scene::inside), py::arg("points"), kInsideDoc)
+      .def("overlapping", on_scene(&Scene::overlapping), py::arg("centre"), py::arg("radius"),
            kOverlappingDoc)
-      .def("refit", &Scene::refit, py::arg("centers"), py::arg("radii"),
+      .def("refit", on_scene(&Scene::refit), py::arg("centers"), py::arg("radii"),
            py::arg("masks") = py::none(), kRefitDoc)
-      .def("__len__", &Scene::size, "len(scene): the number of spheres.")
-      .def_property_readonly("uses_bvh", &Scene::uses_bvh,
+      .def("__len__", on_scene(&Scene::size), "len(scene): the number of spheres.")
+      .def_property_readonly("uses_bvh", on_scene(&Scene::uses_bvh),
                              "Whether a BVH answers the queries (else brute force).")
-      .def_property_readonly("centers", &Scene::centers,
+      .def_property_readonly("centers", on_scene(&Scene::centers),
                              "A read-only view of the (N, 3) float32 array the scene reads: "
                              "yours if not copied.")
-      .def_property_readonly("radii", &Scene::radii,
+      .def_property_readonly("radii", on_scene(&Scene::radii),
                              "A read-only view of the (N,) float32 array the scene reads: yours "
                              "if not copied.")
-      .def("__repr__", [](const Scene& s) {
+      .def("__repr__", [](py::handle self) {
+        const Scene& s = scene_in(self);
         return "<sphray.Scene: " + std::to_string(s.size()) + " spheres, " +
                (s.uses_bvh() ? "BVH" : "brute force") + ">";
       });

@@ -247,3 +247,18 @@ def test_scene_arrays_are_read_only(c_order):
     assert centers.flags.writeable                          # the caller's flags are untouched
     o, d = np.zeros((1, 3), np.float32), np.array([[0, 0, -1]], np.float32)
     assert scene.intersect(o, d)[1][0] == 0
+
+
+def test_a_scene_whose_init_never_ran_raises():
+    # Scene.__new__ alone: pybind11 handed the methods unconstructed memory (garbage, then a
+    # segfault); every method now checks.
+    scene = sphray.Scene.__new__(sphray.Scene)
+    o = np.zeros((1, 3), np.float32)
+    for call in (lambda: len(scene), lambda: scene.intersect(o, o), lambda: scene.centers,
+                 lambda: repr(scene), lambda: scene.refit(o, np.ones(1))):
+        with pytest.raises(RuntimeError, match="__init__ was never called"):
+            call()
+    with pytest.raises(TypeError, match="expected a sphray.Scene"):
+        sphray.Scene.intersect(object(), o, o)
+    scene.__init__(o, np.ones(1))                            # a late __init__ is still the first
+    assert len(scene) == 1
