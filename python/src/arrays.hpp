@@ -42,13 +42,16 @@ auto numpy_call(const char* what, Call&& call) -> decltype(call()) {
   }
 }
 
-/// obj as an array of T with the layout Flags (py::array::c_style or f_style): obj itself when
-/// it is one already, else numpy's converted copy. Errors as numpy_call.
+/// obj as an aligned array of T with the layout Flags (py::array::c_style or f_style): obj
+/// itself when it is one already, else numpy's converted copy. Errors as numpy_call.
+/// Alignment is asked for explicitly: pybind11's flags leave it out, and numpy then returns a
+/// misaligned float32 array (a view into packed bytes) as it is, which the readers here cannot
+/// read through a float pointer.
 template <typename T, int Flags>
-py::array_t<T, Flags | py::array::forcecast> converted(const char* what, const py::handle& obj) {
-  return numpy_call(what, [&] {
-    return py::array_t<T, Flags | py::array::forcecast>(py::reinterpret_borrow<py::object>(obj));
-  });
+auto converted(const char* what, const py::handle& obj) {
+  constexpr int kFlags = Flags | py::array::forcecast | py::detail::npy_api::NPY_ARRAY_ALIGNED_;
+  return numpy_call(
+      what, [&] { return py::array_t<T, kFlags>(py::reinterpret_borrow<py::object>(obj)); });
 }
 
 /// obj as a numpy array of real numbers (float, int or uint dtype), np.asarray(obj). Throws

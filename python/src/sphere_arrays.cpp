@@ -22,10 +22,13 @@ bool columns_contiguous(const py::array& centers) {
          centers.strides(1) % kFloat == 0;
 }
 
-// A float32 copy of a made for the scene alone: read-only, so that nothing can change the
-// spheres brute force reads without the tree seeing it too.
-py::array own_copy(py::array copy) {
-  copy.attr("setflags")(py::arg("write") = false);
+// a as the float32 copy the scene keeps (made only when a is not one already, so never the
+// caller's array): read-only, so that nothing can change the spheres brute force reads
+// without the tree seeing it too.
+template <int Flags>
+py::array own_copy(const char* what, const py::array& a) {
+  py::array copy = converted<float, Flags>(what, a);
+  if (!copy.is(a)) copy.attr("setflags")(py::arg("write") = false);
   return copy;
 }
 
@@ -50,11 +53,10 @@ SphereArrays::SphereArrays(const py::handle& centers, const py::handle& radii,
         "sphere's), got shape " +
         shape_text(c));
   }
-  centers_ =
-      columns_contiguous(c) ? c : own_copy(converted<float, py::array::f_style>("centers", c));
+  centers_ = columns_contiguous(c) ? c : own_copy<py::array::f_style>("centers", c);
   radii_ = is_float32(r) && (r.shape(0) <= 1 || r.strides(0) == kFloat)
                ? r
-               : own_copy(converted<float, py::array::c_style>("radii", r));
+               : own_copy<py::array::c_style>("radii", r);
   count_ = static_cast<std::size_t>(c.shape(0));
   const auto* base = static_cast<const char*>(centers_.data());
   const py::ssize_t column = count_ > 0 ? centers_.strides(1) : 0;

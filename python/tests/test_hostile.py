@@ -262,3 +262,40 @@ def test_a_scene_whose_init_never_ran_raises():
         sphray.Scene.intersect(object(), o, o)
     scene.__init__(o, np.ones(1))                            # a late __init__ is still the first
     assert len(scene) == 1
+
+
+def misaligned(a, order="C"):
+    """a's values in an array one byte off its dtype's alignment (as np.frombuffer at an odd
+    offset gives), with a's layout."""
+    a = np.asarray(a)
+    buf = np.zeros(a.nbytes + 1, np.uint8)
+    out = np.ndarray(a.shape, a.dtype, buffer=buf, offset=1, order=order)
+    out[...] = a
+    assert not out.flags.aligned
+    return out
+
+
+@pytest.mark.parametrize("accel", ["brute", "bvh"])
+def test_misaligned_arrays_are_copied_not_read_through_a_float_pointer(rng, accel):
+    # numpy hands a misaligned contiguous array back unconverted unless alignment is asked
+    # for: the rays' reader then had no strides and crashed.
+    n = 200
+    centers = rng.uniform(-5, 5, (n, 3)).astype(np.float32)
+    radii = rng.uniform(0.2, 0.6, n).astype(np.float32)
+    masks = rng.integers(1, 4, n).astype(np.uint32)
+    o = rng.uniform(-6, 6, (500, 3)).astype(np.float32)
+    d = rng.normal(size=(500, 3)).astype(np.float32)
+    tmax = rng.uniform(1, 20, 500).astype(np.float32)
+    ray_masks = rng.integers(1, 4, 500).astype(np.uint32)
+    want_scene = sphray.Scene(centers, radii, accel=accel, masks=masks)
+    got_scene = sphray.Scene(misaligned(centers, "F"), misaligned(radii), accel=accel,
+                             masks=misaligned(masks))
+    want = want_scene.intersect(o, d, tmax=tmax, mask=ray_masks)
+    got = got_scene.intersect(misaligned(o), misaligned(d), tmax=misaligned(tmax),
+                              mask=misaligned(ray_masks))
+    np.testing.assert_array_equal(got[0], want[0])
+    np.testing.assert_array_equal(got[1], want[1])
+    np.testing.assert_array_equal(
+        got_scene.surface(misaligned(o), misaligned(d), misaligned(want[0]), misaligned(want[1]))[0],
+        want_scene.surface(o, d, *want)[0])
+    assert got_scene.centers.flags.aligned and got_scene.radii.flags.aligned
