@@ -299,3 +299,63 @@ def test_misaligned_arrays_are_copied_not_read_through_a_float_pointer(rng, acce
         got_scene.surface(misaligned(o), misaligned(d), misaligned(want[0]), misaligned(want[1]))[0],
         want_scene.surface(o, d, *want)[0])
     assert got_scene.centers.flags.aligned and got_scene.radii.flags.aligned
+
+
+# --- Every argument, every odd value: a result or an exception, never a crash -------------------
+
+
+class ArrayRaises:
+    """An object whose conversion to an array fails with an exception of its own."""
+
+    def __array__(self, dtype=None):
+        raise KeyError("from __array__")
+
+
+ODD_VALUES = [
+    None, 1, -1, 2**70, 1.5, float("nan"), True, "x", b"xy", [], [[]], [[1, 2, 3]],
+    [[1, 2, 3], [1, 2]], np.zeros((0, 3)), np.zeros((2, 3))[::-1],
+    np.zeros((2, 3), np.float32)[:, ::-1], np.zeros((2, 0)), np.zeros((2, 3), ">f4"),
+    np.zeros((2, 3), np.float16), np.zeros((2, 3), np.longdouble), np.zeros((2, 3), np.uint64),
+    np.zeros((2, 3), object), np.zeros((2, 3), complex), np.zeros(3), np.zeros(()),
+    np.float32(1), np.uint32(7), np.zeros((2, 1, 3)), np.broadcast_to(np.float32(0), (2, 3)),
+    np.ma.masked_array(np.zeros((2, 3))), np.zeros((2, 3), [("a", "f4")]), np.zeros(2, np.uint32),
+    np.zeros(2, np.int8) - 1, memoryview(np.zeros((2, 3), np.float32)), ArrayRaises(),
+    misaligned(np.zeros((2, 3), np.float32)),
+]
+
+
+def test_odd_values_in_every_argument_raise_python_exceptions():
+    o, d, ids = np.zeros((2, 3)), np.ones((2, 3)), np.zeros(2, np.uint32)
+    c, r = np.zeros((2, 3)), np.ones(2)
+    for accel in ("brute", "bvh"):
+        s = sphray.Scene(c, r, accel=accel)
+        calls = {
+            "Scene centers": lambda v: sphray.Scene(v, r, accel=accel),
+            "Scene radii": lambda v: sphray.Scene(c, v, accel=accel),
+            "Scene masks": lambda v: sphray.Scene(c, r, accel=accel, masks=v),
+            "intersect origins": lambda v: s.intersect(v, d),
+            "intersect directions": lambda v: s.intersect(o, v),
+            "intersect tmin": lambda v: s.intersect(o, d, tmin=v),
+            "occluded tmax": lambda v: s.occluded(o, d, tmax=v),
+            "count_hits mask": lambda v: s.count_hits(o, d, mask=v),
+            "intersect_all mask": lambda v: s.intersect_all(o, d, 4, mask=v),
+            "surface t": lambda v: s.surface(o, d, v, ids),
+            "surface ids": lambda v: s.surface(o, d, 1.0, v),
+            "spawn new_directions": lambda v: s.spawn(o, d, 1.0, ids, v),
+            "nearest points": lambda v: s.nearest(v),
+            "inside points": lambda v: s.inside(v),
+            "overlapping centre": lambda v: s.overlapping(v, 1.0),
+            "refit centers": lambda v: s.refit(v, r),
+            "refit radii": lambda v: s.refit(c, v),
+            "refit masks": lambda v: s.refit(c, r, masks=v),
+            "pinhole_rays eye": lambda v: sphray.pinhole_rays(v, [0, 0, -1], [0, 1, 0], 90, 4, 4),
+        }
+        for name, call in calls.items():
+            for value in ODD_VALUES:
+                try:
+                    call(value)
+                except (TypeError, ValueError, MemoryError):
+                    pass
+                except KeyError:
+                    assert isinstance(value, ArrayRaises), (name, value)  # its own, unchanged
+        assert len(s) == 2
