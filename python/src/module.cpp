@@ -46,8 +46,8 @@ computes in float32. Sphere i has id i. A sphere with radius <= 0 or a NaN or in
 value is never hit.
 
 masks: None, or (N,) integers in [0, 2**32 - 1] (copied as uint32). The ray queries take a
-mask= keyword (an integer, numpy's included, or one per ray; default every bit): a ray sees sphere i only if
-masks[i] & mask != 0. The point queries see every sphere.
+mask= keyword (an integer, numpy's included, or one per ray; default every bit): a ray sees
+sphere i only if masks[i] & mask != 0. The point queries see every sphere.
 
 accel: "auto" builds a bounding volume hierarchy (BVH) from 128 spheres on and traces
 small scenes by brute force; "bvh" and "brute" force one or the other. Both return the
@@ -153,10 +153,9 @@ constexpr const char* kRefitDoc = R"doc(refit(centers, radii, masks=None)
 Moves the scene's spheres.
 
 New centres and radii for the same spheres (the same N; ids unchanged); masks=None keeps
-the spheres' masks, an array replaces them. With a BVH the tree
-keeps its shape and only its boxes are updated: much cheaper than a new Scene, but tracing
-slows down as spheres drift far from where the tree was built. Waits for queries in flight
-in other threads.)doc";
+the spheres' masks, an array replaces them. With a BVH the tree keeps its shape and only its
+boxes are updated: much cheaper than a new Scene, but tracing slows down as spheres drift
+far from where the tree was built. Waits for queries in flight in other threads.)doc";
 
 constexpr const char* kPinholeDoc =
     R"doc(pinhole_rays(eye, target, up, vfov_deg, width, height) -> (origins, directions)
