@@ -93,16 +93,16 @@ class Scene:
     def refit(
         self, centers: _ArrayLike, radii: _ArrayLike, masks: Optional[_ArrayLike] = None
     ) -> None:
-        """New centres and radii for the same spheres (same N)."""
+        """New centres and radii for the same spheres (same N); masks=None keeps their masks."""
     def __len__(self) -> int: ...
     @property
     def uses_bvh(self) -> bool: ...
     @property
     def centers(self) -> npt.NDArray[np.float32]:
-        """The (N, 3) array the scene reads: yours if it was not copied."""
+        """A read-only view of the (N, 3) array the scene reads: yours if it was not copied."""
     @property
     def radii(self) -> npt.NDArray[np.float32]:
-        """The (N,) array the scene reads: yours if it was not copied."""
+        """A read-only view of the (N,) array the scene reads: yours if it was not copied."""
 
 def pinhole_rays(
     eye: _ArrayLike,

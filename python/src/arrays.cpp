@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 namespace sphray::python {
 namespace {
@@ -23,9 +24,11 @@ bool float_strides(const py::array& a, std::vector<std::ptrdiff_t>& strides) {
 
 // a with its leading axes merged into one, as a view where numpy can make one (always for
 // contiguous data), else a copy: (..., k) to (n, k), or (...) to (n,) when keep_last is false.
-py::array flatten_leading(const py::array& a, bool keep_last) {
-  if (keep_last) return a.attr("reshape")(-1, a.shape(a.ndim() - 1));
-  return a.attr("reshape")(-1);
+py::array flatten_leading(const char* what, const py::array& a, bool keep_last) {
+  return numpy_call(what, [&]() -> py::array {
+    if (keep_last) return a.attr("reshape")(-1, a.shape(a.ndim() - 1));
+    return a.attr("reshape")(-1);
+  });
 }
 
 std::vector<py::ssize_t> shape_of(const py::array& a) {
@@ -41,8 +44,35 @@ std::string shape_text(const std::vector<py::ssize_t>& shape) {
   return s + (shape.size() == 1 ? ",)" : ")");
 }
 
-py::array as_float32(const py::array& a) {
-  return py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+// Checks that every value of the flat integer array a, converted to T (int64 for signed
+// dtypes, uint64 for unsigned: either holds every value of its kind), lies in [0, 2^32 - 1].
+template <typename T>
+std::vector<std::uint32_t> checked_uint32(const char* what, const py::array& a, const char* kind,
+                                          bool scalar) {
+  const auto wide = converted<T, py::array::c_style>(what, a);
+  std::vector<std::uint32_t> values(static_cast<std::size_t>(wide.size()));
+  const T* v = wide.data();
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!std::in_range<std::uint32_t>(v[i])) {
+      throw py::value_error(std::string(what) + ": " + kind + " must lie in [0, 2**32 - 1], got " +
+                            std::to_string(v[i]) +
+                            (scalar ? "" : " at flat index " + std::to_string(i)));
+    }
+    values[i] = static_cast<std::uint32_t>(v[i]);
+  }
+  return values;
+}
+
+// A Python int (bool included, as Python counts it) anywhere in or beyond int64's range.
+std::uint32_t python_int_as_uint32(const char* what, const py::handle& obj, const char* kind) {
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(obj.ptr(), &overflow);
+  if (v == -1 && PyErr_Occurred()) throw py::error_already_set();
+  if (overflow != 0 || v < 0 || v > 0xffffffffLL) {
+    throw py::value_error(std::string(what) + ": " + kind + " must lie in [0, 2**32 - 1], got " +
+                          std::string(py::str(obj)));
+  }
+  return static_cast<std::uint32_t>(v);
 }
 
 }  // namespace
@@ -51,12 +81,22 @@ std::string shape_text(const py::array& array) {
   return shape_text(shape_of(array));
 }
 
+void rethrow_numpy_error(const char* what, py::error_already_set& e) {
+  // Not numpy's exception class itself: _ArrayMemoryError, for one, takes no message.
+  PyObject* type = e.matches(PyExc_MemoryError)  ? PyExc_MemoryError
+                   : e.matches(PyExc_TypeError)  ? PyExc_TypeError
+                   : e.matches(PyExc_ValueError) ? PyExc_ValueError
+                                                 : nullptr;
+  if (type == nullptr) throw;
+  std::string message = py::str(e.value());
+  if (message.empty()) message = type == PyExc_MemoryError ? "out of memory" : "cannot convert";
+  py::raise_from(e, type, (std::string(what) + ": " + message).c_str());
+  throw py::error_already_set();
+}
+
 py::array as_real_array(const char* what, const py::handle& obj) {
-  py::array a = py::array::ensure(obj);
-  if (!a) {
-    throw py::type_error(std::string(what) + ": expected an array of real numbers, got " +
-                         std::string(py::str(py::type::of(obj))));
-  }
+  py::array a =
+      numpy_call(what, [&] { return py::array(py::reinterpret_borrow<py::object>(obj)); });
   const char kind = a.dtype().kind();
   if (kind != 'f' && kind != 'i' && kind != 'u') {
     throw py::type_error(std::string(what) + ": expected a float or integer dtype, got " +
@@ -74,10 +114,10 @@ Vec3Rows::Vec3Rows(const char* what, const py::handle& obj) {
   shape_ = shape_text(a);
   leading_ = shape_of(a);
   leading_.pop_back();
-  py::array flat = flatten_leading(a, true);
+  py::array flat = flatten_leading(what, a, true);
   std::vector<std::ptrdiff_t> strides;
   if (!float_strides(flat, strides)) {
-    flat = as_float32(flat);
+    flat = converted<float, py::array::c_style>(what, flat);
     float_strides(flat, strides);
   }
   array_ = flat;
@@ -89,21 +129,26 @@ Vec3Rows::Vec3Rows(const char* what, const py::handle& obj) {
 
 FloatPerRow::FloatPerRow(const char* what, const py::handle& obj,
                          const std::vector<py::ssize_t>& shape) {
-  if (py::isinstance<py::float_>(obj) || py::isinstance<py::int_>(obj) ||
-      (py::isinstance<py::array>(obj) && py::array::ensure(obj).ndim() == 0)) {
-    py::array a = as_real_array(what, obj);
-    scalar_ = static_cast<float>(py::cast<double>(a.attr("item")()));
+  if (PyFloat_Check(obj.ptr()) || (PyLong_Check(obj.ptr()) && !PyBool_Check(obj.ptr()))) {
+    // A Python number as Python converts it: an int beyond float's range is OverflowError.
+    const double v = PyFloat_AsDouble(obj.ptr());
+    if (v == -1.0 && PyErr_Occurred()) throw py::error_already_set();
+    scalar_ = static_cast<float>(v);
     return;
   }
   py::array a = as_real_array(what, obj);
+  if (a.ndim() == 0) {  // a numpy scalar (np.float32(10), m[0]) or a 0-d array
+    scalar_ = static_cast<float>(*converted<double, py::array::c_style>(what, a).data());
+    return;
+  }
   if (shape_of(a) != shape) {
     throw py::value_error(std::string(what) + ": expected a scalar or shape " + shape_text(shape) +
                           " (one per ray), got " + shape_text(a));
   }
-  py::array flat = flatten_leading(a, false);
+  py::array flat = flatten_leading(what, a, false);
   std::vector<std::ptrdiff_t> strides;
   if (!float_strides(flat, strides)) {
-    flat = as_float32(flat);
+    flat = converted<float, py::array::c_style>(what, flat);
     float_strides(flat, strides);
   }
   array_ = flat;
@@ -125,20 +170,10 @@ std::vector<std::uint32_t> uint32_values(const char* what, const py::handle& obj
     throw py::value_error(std::string(what) + ": expected shape " + shape_text(shape) + " (one " +
                           per + "), got " + shape_text(a));
   }
-  // int64 holds every uint32 and every signed dtype but uint64, whose values above 2^63 wrap
-  // negative and are refused below like any other negative value.
-  auto wide = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(
-      flatten_leading(a, false));
-  std::vector<std::uint32_t> values(static_cast<std::size_t>(wide.size()));
-  const std::int64_t* v = wide.data();
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    if (v[i] < 0 || v[i] > std::numeric_limits<std::uint32_t>::max()) {
-      throw py::value_error(std::string(what) + ": " + kind + " must lie in [0, 2**32 - 1], got " +
-                            std::to_string(v[i]) + " at flat index " + std::to_string(i));
-    }
-    values[i] = static_cast<std::uint32_t>(v[i]);
-  }
-  return values;
+  const py::array flat = flatten_leading(what, a, false);
+  const bool scalar = a.ndim() == 0;
+  if (a.dtype().kind() == 'u') return checked_uint32<std::uint64_t>(what, flat, kind, scalar);
+  return checked_uint32<std::int64_t>(what, flat, kind, scalar);
 }
 
 std::vector<std::uint32_t> ids_per_row(const char* what, const py::handle& obj,
@@ -147,17 +182,22 @@ std::vector<std::uint32_t> ids_per_row(const char* what, const py::handle& obj,
 }
 
 MaskPerRow::MaskPerRow(const py::handle& obj, const std::vector<py::ssize_t>& shape) {
-  if (py::isinstance<py::int_>(obj)) {  // every ray's mask
-    const long long v = obj.cast<long long>();
-    if (v < 0 || v > 0xffffffffLL)
-      throw py::value_error("mask: masks must lie in [0, 2**32 - 1], got " + std::to_string(v));
-    scalar_ = static_cast<std::uint32_t>(v);
-  } else if (py::isinstance<py::array>(obj) && py::array::ensure(obj).ndim() == 0) {
-    scalar_ = uint32_values("mask", py::array::ensure(obj).attr("reshape")(1), {1}, "masks",
-                            "per ray")[0];
-  } else {
-    values_ = uint32_values("mask", obj, shape, "masks", "per ray");
+  if (PyLong_Check(obj.ptr())) {  // every ray's mask, a Python int of any size
+    scalar_ = python_int_as_uint32("mask", obj, "masks");
+    return;
   }
+  const py::array a = as_real_array("mask", obj);
+  if (a.ndim() == 0) {  // every ray's mask, a numpy integer (np.uint32(1), m[0]) or 0-d array
+    scalar_ = uint32_values("mask", a, {}, "masks", "per ray")[0];
+  } else {
+    values_ = uint32_values("mask", a, shape, "masks", "per ray");
+  }
+}
+
+py::array read_only_view(const py::array& a) {
+  py::array view = a.attr("view")();
+  view.attr("setflags")(py::arg("write") = false);
+  return view;
 }
 
 }  // namespace sphray::python

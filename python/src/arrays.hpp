@@ -23,9 +23,45 @@ namespace py = pybind11;
 /// "(4, 3)": a shape as numpy prints it.
 std::string shape_text(const py::array& array);
 
-/// obj as a numpy array of real numbers (float, int or uint dtype). Throws TypeError for any
-/// other dtype (bool, complex, object, strings), naming what and the dtype.
+/// Re-raises e, numpy's error while converting the argument what, as the same kind of Python
+/// exception with what in front of numpy's message and numpy's exception as its cause:
+/// MemoryError when a copy could not be allocated, ValueError or TypeError for input numpy
+/// cannot convert. Any other exception (KeyboardInterrupt, say) propagates unchanged.
+[[noreturn]] void rethrow_numpy_error(const char* what, py::error_already_set& e);
+
+/// call(), a numpy call on the argument what that may fail (a conversion, a reshape that
+/// copies), with its error raised as rethrow_numpy_error says. Every conversion in the module
+/// goes through here: pybind11's array_t::ensure() returns a null array and clears the
+/// Python error instead, which is how a failed allocation became a segfault.
+template <typename Call>
+auto numpy_call(const char* what, Call&& call) -> decltype(call()) {
+  try {
+    return call();
+  } catch (py::error_already_set& e) {
+    rethrow_numpy_error(what, e);
+  }
+}
+
+/// obj as an aligned array of T with the layout Flags (py::array::c_style or f_style): obj
+/// itself when it is one already, else numpy's converted copy. Errors as numpy_call.
+/// Alignment is asked for explicitly: pybind11's flags leave it out, and numpy then returns a
+/// misaligned float32 array (a view into packed bytes) as it is, which the readers here cannot
+/// read through a float pointer.
+template <typename T, int Flags>
+auto converted(const char* what, const py::handle& obj) {
+  constexpr int kFlags = Flags | py::array::forcecast | py::detail::npy_api::NPY_ARRAY_ALIGNED_;
+  return numpy_call(
+      what, [&] { return py::array_t<T, kFlags>(py::reinterpret_borrow<py::object>(obj)); });
+}
+
+/// obj as a numpy array of real numbers (float, int or uint dtype), np.asarray(obj). Throws
+/// TypeError for any other dtype (bool, complex, object, strings), naming what and the dtype;
+/// numpy's own errors (a ragged list, no memory) as numpy_call.
 py::array as_real_array(const char* what, const py::handle& obj);
+
+/// A read-only view of a (the same data): what the Scene's centers and radii attributes give,
+/// so that writing through them cannot change the spheres behind the tree's back.
+py::array read_only_view(const py::array& a);
 
 /// Rows of three floats, (..., 3): read in place when the array is float32 with strides that
 /// are whole floats, otherwise converted once to a C-contiguous float32 copy.
@@ -53,9 +89,9 @@ class Vec3Rows {
   std::vector<py::ssize_t> leading_;
 };
 
-/// One float per row, for a batch of the given leading shape: a Python scalar (the same for
-/// every row) or an array of exactly that shape. Read in place when float32 and strided in
-/// whole floats.
+/// One float per row, for a batch of the given leading shape: a scalar (the same for every
+/// row: a Python or numpy number, or a 0-d array) or an array of exactly that shape. Read in
+/// place when float32 and strided in whole floats.
 class FloatPerRow {
  public:
   FloatPerRow(const char* what, const py::handle& obj, const std::vector<py::ssize_t>& shape);
@@ -84,7 +120,8 @@ std::vector<std::uint32_t> uint32_values(const char* what, const py::handle& obj
                                          const std::vector<py::ssize_t>& shape, const char* kind,
                                          const char* per);
 
-/// Ray masks: a Python integer (every ray's) or a uint32-valued array of the batch's shape.
+/// Ray masks: one integer for every ray (a Python or numpy integer, or a 0-d array) or an
+/// integer array of the batch's shape; ValueError for a value outside [0, 2**32 - 1].
 class MaskPerRow {
  public:
   MaskPerRow(const py::handle& obj, const std::vector<py::ssize_t>& shape);

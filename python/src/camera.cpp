@@ -16,7 +16,7 @@ Vec3 as_vec3(const char* what, const py::handle& obj) {
   if (a.ndim() != 1 || a.shape(0) != 3) {
     throw py::value_error(std::string(what) + ": expected shape (3,), got " + shape_text(a));
   }
-  auto f = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
+  const auto f = converted<double, py::array::c_style>(what, a);
   const double* v = f.data();
   return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
 }

@@ -46,8 +46,8 @@ computes in float32. Sphere i has id i. A sphere with radius <= 0 or a NaN or in
 value is never hit.
 
 masks: None, or (N,) integers in [0, 2**32 - 1] (copied as uint32). The ray queries take a
-mask= keyword (an integer, or one per ray; default every bit): a ray sees sphere i only if
-masks[i] & mask != 0. The point queries see every sphere.
+mask= keyword (an integer, numpy's included, or one per ray; default every bit): a ray sees
+sphere i only if masks[i] & mask != 0. The point queries see every sphere.
 
 accel: "auto" builds a bounding volume hierarchy (BVH) from 128 spheres on and traces
 small scenes by brute force; "bvh" and "brute" force one or the other. Both return the
@@ -56,9 +56,15 @@ same results, bit for bit.
 No copy is made of float32 arrays the kernel can read as they are: radii contiguous,
 centers with contiguous columns (Fortran order, e.g. np.asfortranarray(c, np.float32)
 or the transpose of a (3, N) array). A C-ordered (N, 3) array is copied once into that
-layout. The `centers` and `radii` attributes are the arrays the scene reads; while a
-scene reads your arrays in place, write to them only between queries and call refit()
-afterwards (the BVH keeps its own copy of the spheres and sees changes only then).)doc";
+layout. The `centers` and `radii` attributes are read-only views of the arrays the scene
+reads; while a scene reads your arrays in place, write to them only between queries and
+call refit() afterwards (the BVH keeps its own copy of the spheres and sees changes only
+then).)doc";
+
+constexpr const char* kInitDoc = R"doc(__init__(centers, radii, accel="auto", masks=None)
+
+Spheres from centers (N, 3) and radii (N,), and optionally one uint32 mask each: see
+help(sphray.Scene). Raises RuntimeError on a scene already initialised.)doc";
 
 constexpr const char* kIntersectDoc =
     R"doc(intersect(origins, directions, tmin=0.0, tmax=inf, mask=0xffffffff) -> (t, ids)
@@ -146,10 +152,10 @@ constexpr const char* kRefitDoc = R"doc(refit(centers, radii, masks=None)
 
 Moves the scene's spheres.
 
-New centres and radii for the same spheres (the same N; ids unchanged). With a BVH the tree
-keeps its shape and only its boxes are updated: much cheaper than a new Scene, but tracing
-slows down as spheres drift far from where the tree was built. Waits for queries in flight
-in other threads.)doc";
+New centres and radii for the same spheres (the same N; ids unchanged); masks=None keeps
+the spheres' masks, an array replaces them. With a BVH the tree keeps its shape and only its
+boxes are updated: much cheaper than a new Scene, but tracing slows down as spheres drift
+far from where the tree was built. Waits for queries in flight in other threads.)doc";
 
 constexpr const char* kPinholeDoc =
     R"doc(pinhole_rays(eye, target, up, vfov_deg, width, height) -> (origins, directions)
@@ -174,6 +180,34 @@ size when neither is given, its aspect when one is. spp: samples per pixel; thre
 all cores. The same image as `sphray render` with the same options. Raises ValueError for
 an unknown scene or mode or a size out of range.)doc";
 
+// Whether self, a sphray.Scene (or an instance of a Python subclass), holds its C++ Scene yet.
+bool constructed(py::handle self) {
+  auto* instance = reinterpret_cast<py::detail::instance*>(self.ptr());
+  return instance->get_value_and_holder().holder_constructed();
+}
+
+// The Scene self holds. pybind11 hands a method an instance whose __init__ never ran
+// (sphray.Scene.__new__(sphray.Scene)) as if it held one, and the method then reads garbage:
+// every method reaches its Scene through here instead, and such an instance raises.
+Scene& scene_in(py::handle self) {
+  if (!py::isinstance<Scene>(self)) {
+    throw py::type_error("expected a sphray.Scene, got " +
+                         std::string(py::str(py::type::of(self))));
+  }
+  if (!constructed(self)) throw std::runtime_error("sphray.Scene: __init__ was never called");
+  return self.cast<Scene&>();
+}
+
+// method as a binding that takes self through scene_in().
+template <typename R, typename... A>
+auto on_scene(R (Scene::*method)(A...) const) {
+  return [method](py::handle self, A... args) -> R { return (scene_in(self).*method)(args...); };
+}
+template <typename R, typename... A>
+auto on_scene(R (Scene::*method)(A...)) {
+  return [method](py::handle self, A... args) -> R { return (scene_in(self).*method)(args...); };
+}
+
 std::vector<std::string> supported_isa_names() {
   std::vector<std::string> names;
   for (sphray::Isa isa : sphray::supported_isas())
@@ -191,47 +225,68 @@ PYBIND11_MODULE(sphray, m) {
   m.attr("__version__") = sphray::kVersion;
   m.attr("NO_HIT") = py::int_(sphray::kNoHit);
 
-  py::class_<Scene>(m, "Scene", kSceneDoc)
-      .def(
-          py::init<const py::handle&, const py::handle&, const std::string&, const py::handle&>(),
-          py::arg("centers"), py::arg("radii"), py::arg("accel") = "auto",
-          py::arg("masks") = py::none(),
-          "__init__(centers, radii, accel=\"auto\", masks=None)\n\nSpheres from centers (N, 3) and "
-          "radii (N,), and optionally one uint32 mask each: see help(sphray.Scene).")
-      .def("intersect", &Scene::intersect, py::arg("origins"), py::arg("directions"),
+  py::class_<Scene> scene_class(m, "Scene", kSceneDoc);
+  scene_class
+      .def(py::init<const py::handle&, const py::handle&, const std::string&, const py::handle&>(),
+           py::arg("centers"), py::arg("radii"), py::arg("accel") = "auto",
+           py::arg("masks") = py::none(), kInitDoc)
+      .def("intersect", on_scene(&Scene::intersect), py::arg("origins"), py::arg("directions"),
            py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits,
            kIntersectDoc)
-      .def("occluded", &Scene::occluded, py::arg("origins"), py::arg("directions"),
+      .def("occluded", on_scene(&Scene::occluded), py::arg("origins"), py::arg("directions"),
            py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits,
            kOccludedDoc)
-      .def("surface", &Scene::surface, py::arg("origins"), py::arg("directions"), py::arg("t"),
-           py::arg("ids"), kSurfaceDoc)
-      .def("spawn", &Scene::spawn, py::arg("origins"), py::arg("directions"), py::arg("t"),
-           py::arg("ids"), py::arg("new_directions"), kSpawnDoc)
-      .def("intersect_all", &Scene::intersect_all, py::arg("origins"), py::arg("directions"),
-           py::arg("max_hits") = 16, py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY,
-           py::arg("mask") = sphray::kAllBits, kIntersectAllDoc)
-      .def("count_hits", &Scene::count_hits, py::arg("origins"), py::arg("directions"),
+      .def("surface", on_scene(&Scene::surface), py::arg("origins"), py::arg("directions"),
+           py::arg("t"), py::arg("ids"), kSurfaceDoc)
+      .def("spawn", on_scene(&Scene::spawn), py::arg("origins"), py::arg("directions"),
+           py::arg("t"), py::arg("ids"), py::arg("new_directions"), kSpawnDoc)
+      .def("intersect_all", on_scene(&Scene::intersect_all), py::arg("origins"),
+           py::arg("directions"), py::arg("max_hits") = 16, py::arg("tmin") = 0.0,
+           py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits, kIntersectAllDoc)
+      .def("count_hits", on_scene(&Scene::count_hits), py::arg("origins"), py::arg("directions"),
            py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits,
            kCountHitsDoc)
-      .def("nearest", &Scene::nearest, py::arg("points"), py::arg("max_distance") = INFINITY,
-           kNearestDoc)
-      .def("inside", &Scene::inside, py::arg("points"), kInsideDoc)
-      .def("overlapping", &Scene::overlapping, py::arg("centre"), py::arg("radius"),
+      .def("nearest", on_scene(&Scene::nearest), py::arg("points"),
+           py::arg("max_distance") = INFINITY, kNearestDoc)
+      .def("inside", on_scene(&Scene::inside), py::arg("points"), kInsideDoc)
+      .def("overlapping", on_scene(&Scene::overlapping), py::arg("centre"), py::arg("radius"),
            kOverlappingDoc)
-      .def("refit", &Scene::refit, py::arg("centers"), py::arg("radii"),
+      .def("refit", on_scene(&Scene::refit), py::arg("centers"), py::arg("radii"),
            py::arg("masks") = py::none(), kRefitDoc)
-      .def("__len__", &Scene::size, "len(scene): the number of spheres.")
-      .def_property_readonly("uses_bvh", &Scene::uses_bvh,
+      .def("__len__", on_scene(&Scene::size), "len(scene): the number of spheres.")
+      .def_property_readonly("uses_bvh", on_scene(&Scene::uses_bvh),
                              "Whether a BVH answers the queries (else brute force).")
-      .def_property_readonly("centers", &Scene::centers,
-                             "The (N, 3) float32 array the scene reads: yours if not copied.")
-      .def_property_readonly("radii", &Scene::radii,
-                             "The (N,) float32 array the scene reads: yours if not copied.")
-      .def("__repr__", [](const Scene& s) {
+      .def_property_readonly("centers", on_scene(&Scene::centers),
+                             "A read-only view of the (N, 3) float32 array the scene reads: "
+                             "yours if not copied.")
+      .def_property_readonly("radii", on_scene(&Scene::radii),
+                             "A read-only view of the (N,) float32 array the scene reads: yours "
+                             "if not copied.")
+      .def("__repr__", [](py::handle self) {
+        const Scene& s = scene_in(self);
         return "<sphray.Scene: " + std::to_string(s.size()) + " spheres, " +
                (s.uses_bvh() ? "BVH" : "brute force") + ">";
       });
+  // pybind11 ignores a second __init__ on a constructed instance without a word. A scene's
+  // spheres change only through refit() (same count, ids kept, queries in other threads waited
+  // for), so __init__ on a live scene raises instead (docs/python.md, "Calling __init__ again").
+  // The wrapper cannot be named __init__ itself: pybind11 treats any function of that name as a
+  // constructor and skips it the same way.
+  py::object construct = scene_class.attr("__init__");
+  scene_class.attr("__init__") = py::cpp_function(
+      [construct, type = py::type::of<Scene>()](py::handle self, py::args args, py::kwargs kwargs) {
+        if (!py::isinstance(self, type)) {
+          throw py::type_error("Scene.__init__: self must be a sphray.Scene, got " +
+                               std::string(py::str(py::type::of(self))));
+        }
+        if (constructed(self)) {
+          throw std::runtime_error(
+              "Scene.__init__: this scene is already initialised; make a new Scene, or move "
+              "its spheres with refit()");
+        }
+        construct(self, *args, **kwargs);
+      },
+      py::name("init"), py::is_method(scene_class), py::doc(kInitDoc));
 
   m.def("pinhole_rays", &sphray::python::pinhole_rays, py::arg("eye"), py::arg("target"),
         py::arg("up"), py::arg("vfov_deg"), py::arg("width"), py::arg("height"), kPinholeDoc);

@@ -123,11 +123,12 @@ py::array Scene::inside(const py::handle& points) const {
 }
 
 py::array Scene::overlapping(const py::handle& centre, float radius) const {
-  using Floats = py::array_t<float, py::array::c_style | py::array::forcecast>;
-  const Floats c = Floats::ensure(centre);
-  if (!c) throw py::type_error("centre: expected three numbers");
-  if (c.ndim() != 1 || c.shape(0) != 3)
-    throw py::value_error("centre: expected the shape (3,), got " + shape_text(c));
+  // Refused like every other array argument: TypeError for a dtype that is not real (complex
+  // included, whose imaginary part a cast would drop), ValueError for the shape.
+  const py::array a = as_real_array("centre", centre);
+  if (a.ndim() != 1 || a.shape(0) != 3)
+    throw py::value_error("centre: expected the shape (3,), got " + shape_text(a));
+  const auto c = converted<float, py::array::c_style>("centre", a);
   const Vec3 at{c.at(0), c.at(1), c.at(2)};
   std::vector<std::uint32_t> ids;
   {

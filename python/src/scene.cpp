@@ -138,6 +138,8 @@ void Scene::refit(const py::handle& centers, const py::handle& radii, const py::
     throw py::value_error("refit: expected the scene's " + std::to_string(spheres_.size()) +
                           " spheres, got centers " + shape_text(next.centers()));
   }
+  // No masks given: the spheres keep theirs (only reads of spheres_, safe beside queries).
+  if (masks.is_none()) next.copy_masks_from(spheres_);
   std::unique_lock lock(mutex_, std::defer_lock);
   {
     // Queries in flight hold the lock without the GIL and never ask for the GIL before they

@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 
+#include "arrays.hpp"
 #include "sphere_arrays.hpp"
 #include "sphray/sphray.hpp"
 
@@ -59,13 +60,14 @@ class Scene {
   /// The ids of the spheres overlapping the ball (centre, radius), ascending.
   py::array overlapping(const py::handle& centre, float radius) const;
 
-  /// New centres and radii for the same spheres (same count).
+  /// New centres and radii for the same spheres (same count); masks None keeps their masks.
   void refit(const py::handle& centers, const py::handle& radii, const py::handle& masks);
 
   std::size_t size() const { return spheres_.size(); }
   bool uses_bvh() const { return bvh_.has_value(); }
-  const py::array& centers() const { return spheres_.centers(); }
-  const py::array& radii() const { return spheres_.radii(); }
+  /// Read-only views of the arrays the scene reads (the caller's own, or its copies).
+  py::array centers() const { return read_only_view(spheres_.centers()); }
+  py::array radii() const { return read_only_view(spheres_.radii()); }
 
  private:
   // query(tree) when the scene has one, else query(view): the one place a method chooses.

@@ -22,12 +22,14 @@ bool columns_contiguous(const py::array& centers) {
          centers.strides(1) % kFloat == 0;
 }
 
-py::array fortran_float32(const py::array& a) {
-  return py::array_t<float, py::array::f_style | py::array::forcecast>::ensure(a);
-}
-
-py::array contiguous_float32(const py::array& a) {
-  return py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+// a as the float32 copy the scene keeps (made only when a is not one already, so never the
+// caller's array): read-only, so that nothing can change the spheres brute force reads
+// without the tree seeing it too.
+template <int Flags>
+py::array own_copy(const char* what, const py::array& a) {
+  py::array copy = converted<float, Flags>(what, a);
+  if (!copy.is(a)) copy.attr("setflags")(py::arg("write") = false);
+  return copy;
 }
 
 }  // namespace
@@ -43,14 +45,18 @@ SphereArrays::SphereArrays(const py::handle& centers, const py::handle& radii,
     throw py::value_error("radii: expected shape (" + std::to_string(c.shape(0)) +
                           ",) to match centers " + shape_text(c) + ", got " + shape_text(r));
   }
-  if (static_cast<std::size_t>(c.shape(0)) >= kNoHit) {
+  // The C API's limit, for the same reason: ids are uint32, and NO_HIT = 2^32 - 1 is then no
+  // sphere's id. Checked before any copy is attempted.
+  if (static_cast<std::size_t>(c.shape(0)) > kNoHit) {
     throw py::value_error(
-        "centers: at most 2**32 - 2 spheres (ids are uint32 and NO_HIT is "
-        "reserved), got shape " +
+        "centers: at most 2**32 - 1 spheres (ids are uint32 and NO_HIT = 2**32 - 1 is no "
+        "sphere's), got shape " +
         shape_text(c));
   }
-  centers_ = columns_contiguous(c) ? c : fortran_float32(c);
-  radii_ = is_float32(r) && (r.shape(0) <= 1 || r.strides(0) == kFloat) ? r : contiguous_float32(r);
+  centers_ = columns_contiguous(c) ? c : own_copy<py::array::f_style>("centers", c);
+  radii_ = is_float32(r) && (r.shape(0) <= 1 || r.strides(0) == kFloat)
+               ? r
+               : own_copy<py::array::c_style>("radii", r);
   count_ = static_cast<std::size_t>(c.shape(0));
   const auto* base = static_cast<const char*>(centers_.data());
   const py::ssize_t column = count_ > 0 ? centers_.strides(1) : 0;

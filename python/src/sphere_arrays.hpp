@@ -35,9 +35,14 @@ class SphereArrays {
   }
   std::size_t size() const { return count_; }
 
-  /// The (N, 3) and (N,) arrays the kernel reads: the caller's own when read in place.
+  /// The (N, 3) and (N,) arrays the kernel reads: the caller's own when read in place, else
+  /// read-only copies.
   const py::array& centers() const { return centers_; }
   const py::array& radii() const { return radii_; }
+
+  /// Takes other's sphere masks (a copy, none if it has none): refit() without masks keeps the
+  /// scene's, as the C API's sphray_scene_refit does.
+  void copy_masks_from(const SphereArrays& other) { masks_ = other.masks_; }
 
  private:
   py::array centers_, radii_;
