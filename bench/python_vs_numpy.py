@@ -130,6 +130,7 @@ def agreement(ids, reference):
 
 
 def run(args):
+    load_at_start = os.getloadavg()[0]
     capi = CApi(args.library)
     origins, directions = random_rays(RAYS, 2)
     c_rays = CApi.rays(origins, directions)
@@ -169,7 +170,7 @@ def run(args):
             "sphray": sphray.__version__, "sphray_isa": sphray.active_isa(),
             "threads": os.cpu_count(), "rays": RAYS, "repeats": args.repeats,
             "date": time.strftime("%Y-%m-%d"), "command": args.command,
-            "cpu": cpu_name(),
+            "cpu": cpu_name(), "load_avg": load_at_start,
         },
         "rows": rows,
     }
