@@ -31,7 +31,8 @@ import numpy as np
 import open3d as o3d
 import sphray
 
-from python_vs_open3d import best_of, random_scene, tessellate
+from python_vs_open3d import tessellate
+from python_workload import best_of, random_scene
 
 
 def exact_distance(centers, radii, ids, points):

@@ -29,35 +29,11 @@ import time
 import numpy as np
 
 import sphray
+from python_workload import best_of, random_rays, random_scene
 
 SCENES = (256, 4096, 65536)
 RAYS = 262_144
 NUMPY_TESTS = 1 << 24  # sphere tests numpy is given per scene
-
-
-def random_scene(n, seed):
-    rng = np.random.default_rng(seed)
-    scale = 50.0 / np.cbrt(n)
-    centers = rng.uniform(-50, 50, size=(n, 3)).astype(np.float32)
-    radii = (rng.uniform(0.5, 1.5, size=n) * scale).astype(np.float32)
-    return centers, radii
-
-
-def random_rays(m, seed):
-    rng = np.random.default_rng(seed)
-    origins = rng.uniform(-50, 50, size=(m, 3)).astype(np.float32)
-    d = rng.normal(size=(m, 3))
-    directions = (d / np.linalg.norm(d, axis=1)[:, None]).astype(np.float32)
-    return origins, directions
-
-
-def best_of(repeats, fn):
-    best, result = np.inf, None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = fn()
-        best = min(best, time.perf_counter() - start)
-    return best, result
 
 
 def numpy_intersect(centers, radii, origins, directions, chunk_elements=1 << 22):

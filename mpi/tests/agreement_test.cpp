@@ -7,24 +7,16 @@
 #include <vector>
 
 #include "sphray/mpi/agreement.hpp"
+#include "world.hpp"
 
 namespace {
+
+using sphray::mpi::test::rank;
+using sphray::mpi::test::ranks;
 
 using sphray::mpi::Disagreement;
 using sphray::mpi::RankError;
 using sphray::mpi::Setting;
-
-int rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-
-int ranks() {
-  int n = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &n);
-  return n;
-}
 
 TEST(MpiAgreement, FirstErrorIsTheLowestFailingRanksOnEveryRank) {
   const RankError none = sphray::mpi::first_error(MPI_COMM_WORLD, {});

@@ -18,16 +18,13 @@
 #include "sphray/mpi/distributed_scene.hpp"
 #include "sphray/mpi/particle_file.hpp"
 #include "sphray/sphray.hpp"
+#include "world.hpp"
 
 namespace {
 
-using sphray::mpi::ParticleFileError;
+using sphray::mpi::test::rank;
 
-int rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
+using sphray::mpi::ParticleFileError;
 
 // A file name of this run's own (every rank the same), in the working directory.
 std::filesystem::path scratch(const std::string& name) {

@@ -16,8 +16,12 @@
 
 #include "sphray/mpi/distributed_scene.hpp"
 #include "sphray/sphray.hpp"
+#include "world.hpp"
 
 namespace {
+
+using sphray::mpi::test::rank;
+using sphray::mpi::test::ranks;
 
 using sphray::Hit;
 using sphray::Nearest;
@@ -25,18 +29,6 @@ using sphray::Ray;
 using sphray::SphereSoA;
 using sphray::Vec3;
 using sphray::mpi::DistributedScene;
-
-int rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-
-int ranks() {
-  int n = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &n);
-  return n;
-}
 
 float uniform(std::mt19937& rng, float lo, float hi) {
   return lo + (hi - lo) * static_cast<float>(rng() >> 8) * 0x1p-24f;

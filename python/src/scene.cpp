@@ -73,11 +73,23 @@ py::array Scene::occluded(const py::handle& origins, const py::handle& direction
   return hit;
 }
 
+template <class Keep>
+void Scene::each_surface(const Vec3Rows& o, const Vec3Rows& d, const FloatPerRow& t,
+                         const std::vector<std::uint32_t>& ids, const Keep& keep) const {
+  py::gil_scoped_release release;
+  std::shared_lock lock(mutex_);
+  const SphereView view = spheres_.view();
+  for_each_chunk(o.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      keep(i, sphray::surface(view, Ray{o[i], d[i]}, Hit{t[i], ids[i]}));
+  });
+}
+
 py::tuple Scene::surface(const py::handle& origins, const py::handle& directions,
                          const py::handle& t, const py::handle& ids) const {
   const Vec3Rows o("origins", origins);
   const Vec3Rows d = directions_like(o, directions);
-  FloatPerRow hit_t("t", t, o.leading_shape());
+  const FloatPerRow hit_t("t", t, o.leading_shape());
   const std::vector<std::uint32_t> hit_ids = ids_per_row("ids", ids, o.leading_shape());
   auto points = new_array<float>(o.leading_shape(), {3});
   auto normals = new_array<float>(o.leading_shape(), {3});
@@ -85,21 +97,13 @@ py::tuple Scene::surface(const py::handle& origins, const py::handle& directions
   float* p_out = points.mutable_data();
   float* n_out = normals.mutable_data();
   bool* f_out = front.mutable_data();
-  {
-    py::gil_scoped_release release;
-    std::shared_lock lock(mutex_);
-    const SphereView view = spheres_.view();
-    for_each_chunk(o.size(), [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i) {
-        const Surface s = sphray::surface(view, Ray{o[i], d[i]}, Hit{hit_t[i], hit_ids[i]});
-        for (int k = 0; k < 3; ++k) {
-          p_out[3 * i + k] = s.point[k];
-          n_out[3 * i + k] = s.normal[k];
-        }
-        f_out[i] = s.front_face;
-      }
-    });
-  }
+  each_surface(o, d, hit_t, hit_ids, [&](std::size_t i, const Surface& s) {
+    for (int k = 0; k < 3; ++k) {
+      p_out[3 * i + k] = s.point[k];
+      n_out[3 * i + k] = s.normal[k];
+    }
+    f_out[i] = s.front_face;
+  });
   return py::make_tuple(points, normals, front);
 }
 
@@ -108,23 +112,15 @@ py::array Scene::spawn(const py::handle& origins, const py::handle& directions, 
   const Vec3Rows o("origins", origins);
   const Vec3Rows d = directions_like(o, directions);
   const Vec3Rows next = directions_like(o, new_directions, "new_directions");
-  FloatPerRow hit_t("t", t, o.leading_shape());
+  const FloatPerRow hit_t("t", t, o.leading_shape());
   const std::vector<std::uint32_t> hit_ids = ids_per_row("ids", ids, o.leading_shape());
   auto spawned = new_array<float>(o.leading_shape(), {3});
   float* out = spawned.mutable_data();
-  {
-    py::gil_scoped_release release;
-    std::shared_lock lock(mutex_);
-    const SphereView view = spheres_.view();
-    for_each_chunk(o.size(), [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i) {
-        const Surface s = sphray::surface(view, Ray{o[i], d[i]}, Hit{hit_t[i], hit_ids[i]});
-        const Vec3 p = sphray::offset_origin(s, next[i]);
-        for (int k = 0; k < 3; ++k)
-          out[3 * i + k] = p[k];
-      }
-    });
-  }
+  each_surface(o, d, hit_t, hit_ids, [&](std::size_t i, const Surface& s) {
+    const Vec3 p = sphray::offset_origin(s, next[i]);
+    for (int k = 0; k < 3; ++k)
+      out[3 * i + k] = p[k];
+  });
   return spawned;
 }
 

@@ -82,6 +82,12 @@ class Scene {
 
   // hits[i] for rays[i], through the BVH or brute force. Needs the reader lock.
   void trace(std::span<const Ray> rays, std::span<Hit> hits) const;
+  // keep(i, surface) for the hit surface of each row i (rows as surface() takes them), on all
+  // cores with the GIL released and the reader lock held: surface() and spawn() differ only in
+  // what they keep of it. Defined in scene.cpp, its only user.
+  template <class Keep>
+  void each_surface(const Vec3Rows& o, const Vec3Rows& d, const FloatPerRow& t,
+                    const std::vector<std::uint32_t>& ids, const Keep& keep) const;
 };
 
 }  // namespace sphray::python
