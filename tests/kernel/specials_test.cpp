@@ -110,10 +110,11 @@ bool same(const Hit& a, const Hit& b) {
   return a.id == b.id && std::bit_cast<std::uint32_t>(a.t) == std::bit_cast<std::uint32_t>(b.t);
 }
 
-// A hit at t = 0 exactly (the origin on the sphere, as float rounds it; tmin negative), here
-// from origins far from the world origin and long or lopsided directions: the tree sometimes
-// rejects it or another crossing of that ray (left open: docs/robustness.md, "Not done"), so
-// a disagreement of the tree on such a ray is counted, not failed.
+// A hit at t = 0 exactly, with tmin negative: where |dir|^2 times the discriminant overflows
+// float (|dir| = 1e18 and r = 1e10, say), sqrt(a disc) is infinite, q = +-inf and the near
+// root c / q is +-0: brute force reports a false hit at t = 0, which the tree's boxes
+// rightly reject (left open: docs/robustness.md, "Not done"). A disagreement of the tree on
+// such a ray is counted, not failed.
 bool known_tree_gap(const Hit& hit) {
   return hit.found() && hit.t == 0.0f;
 }
