@@ -29,7 +29,7 @@ def valid_rays(o, d, tmin, tmax):
 
 
 def valid_spheres(c, r):
-    return np.isfinite(c).all(axis=1) & np.isfinite(r) & (r > 0)
+    return np.isfinite(c).all(axis=1) & (r >= 2.0**-63) & (r < 2.0**64)
 
 
 def roots(c, r, o, d):

@@ -6,8 +6,9 @@
 //      misalignment, and padded views promise exactly as much padding as exists;
 //   2. keep the contract's exact rules: invalid rays miss with t == tmax, invalid spheres and
 //      padding are never hit, a hit lies in (tmin, tmax), occluded() == intersect().found(),
-//      a stream equals its per-ray queries bit for bit, surface() gives a unit normal, and a
-//      BVH returns bit for bit what brute force returns on the same instruction set;
+//      count_hits() > 0 == intersect().found(), a stream equals its per-ray queries bit for
+//      bit, surface() gives a unit normal, and a BVH returns bit for bit what brute force
+//      returns on the same instruction set (its count_hits() too);
 //   3. return the scalar reference's answer bit for bit (docs/kernel.md, "One answer on every
 //      instruction set"), and pass a check against the exact geometry (long double, on the same
 //      float inputs) with a float error bound (docs/robustness.md, "What agree means").
@@ -221,8 +222,9 @@ bool valid_ray(const Ray& ray) {
 
 Truth truth(const Ray& ray, float cx, float cy, float cz, float r) {
   Truth t;
+  // The contract's valid sphere: a finite centre and a radius whose square is a normal float.
   t.valid =
-      std::isfinite(cx) && std::isfinite(cy) && std::isfinite(cz) && std::isfinite(r) && r > 0.0f;
+      std::isfinite(cx) && std::isfinite(cy) && std::isfinite(cz) && r >= 0x1p-63f && r < 0x1p64f;
   if (!t.valid || !valid_ray(ray)) return t;
   const LD gx = LD{cx} - ray.origin.x, gy = LD{cy} - ray.origin.y, gz = LD{cz} - ray.origin.z;
   const LD dx = ray.dir.x, dy = ray.dir.y, dz = ray.dir.z;
@@ -390,6 +392,8 @@ void check_kernel(const EntryTable& k, const std::vector<Ray>& rays, SphereView 
     expect_same(hit, stream[i], "stream differs from the per-ray query", i, view.count, name);
     if (k.occluded(view, rays[i]) != hit.found())
       fail("occluded() differs from intersect().found()", i, view.count, name);
+    if ((k.intersect_all(view, rays[i], nullptr, nullptr, 0) > 0) != hit.found())
+      fail("count_hits() > 0 differs from intersect().found()", i, view.count, name);
     check_hit(c, hit, name);
     check_surface(c, hit, name);
     // docs/kernel.md, "One answer on every instruction set": the scalar reference's bits
@@ -426,11 +430,16 @@ void check_bvh(const EntryTable& k, const std::vector<Ray>& rays, SphereView vie
                 name);
     if (occluded(bvh, rays[i]) != tree.found())
       fail("the BVH's occluded() differs from its intersect()", i, view.count, name);
+    const std::size_t tree_count = count_hits(bvh, rays[i]);
+    if ((tree_count > 0) != tree.found())
+      fail("the BVH's count_hits() > 0 differs from its intersect()", i, view.count, name);
     check_hit({rays[i], i, view, truths[i]}, tree, name);
     ++tally.bvh_answers;
-    if (decidable(truths[i]))
+    if (decidable(truths[i])) {
       expect_equal(tree, brute, "the BVH differs from brute force on its set", i, view.count, name);
-    else if (!same(tree, brute))
+      if (tree_count != k.intersect_all(view, rays[i], nullptr, nullptr, 0))
+        fail("the BVH's count_hits() differs from brute force's", i, view.count, name);
+    } else if (!same(tree, brute))
       ++tally.bvh_undecidable_differs;
   }
 }

@@ -75,10 +75,12 @@ TEST(Hardening, BoxesBehindTheOriginAreNotSkipped) {
 }
 
 // Kernel fuzzer: for a sphere of radius 1e-22 the offset from the centre to the hit point has
-// squares in float's denormals, and surface() normalised it to a length of 0.985.
+// squares in float's denormals, and surface() normalised it to a length of 0.985. Such a radius
+// is invalid since issue 30 (its square underflows); the smallest valid one, 2^-63, still has
+// offsets whose components square into the denormals.
 TEST(Hardening, SurfaceNormalOfATinySphereIsUnitLength) {
   test::LooseSpheres spheres(0);
-  spheres.add({0x1.b848p-6f, 0x1.26a6ap-130f, 0x1.35p-73f}, 0x1.35p-73f);
+  spheres.add({0x1.b848p-6f, 0x1.26a6ap-130f, 0x1.35p-73f}, 0x1p-63f);
   const Ray ray{{0, 0, 0}, {0x1.368p+3f, 0, 0}};
   for (Isa isa : supported_isas()) {
     const Hit hit = find_entries(isa)->intersect(spheres.view(), ray);

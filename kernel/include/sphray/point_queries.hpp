@@ -12,7 +12,8 @@
 // - inside: whether any d_i < 0 (the open balls).
 // - overlapping: the ids of the spheres with d_i < radius, ascending: the first out.size() of
 //   them into out; returns how many there are in all. Touching is not overlapping.
-// - Spheres the ray queries never hit (radius <= 0, NaN or infinite fields) are never found. A
+// - Spheres the ray queries never hit (a NaN or infinite centre, a radius outside
+//   [2^-63, 2^64): query.hpp) are never found. A
 //   NaN or infinite point, a NaN max_distance, or a radius that is negative or NaN gives the
 //   empty answer (a miss, false, 0). No allocation, no locks, no global state.
 #pragma once

@@ -5,7 +5,9 @@
 //   lies in that interval, else the far one: a ray starting inside a sphere hits its far side.
 // - intersect returns the smallest such t over all spheres and that sphere's id; equal t from
 //   two spheres: the lower id. On a miss, id == kNoHit and t == ray.tmax.
-// - A sphere with radius <= 0 or any NaN or infinite field is never hit. A ray with a NaN or
+// - A sphere with a NaN or infinite centre component, or a radius whose square is not a normal
+//   finite float (NaN, <= 0, below 2^-63 ~ 1.08e-19, or from 2^64 ~ 1.8e19 on), is never hit
+//   (docs/kernel.md, "Contract"). A ray with a NaN or
 //   infinite origin or direction component, a zero direction (or one whose squared length
 //   overflows or underflows float), a NaN bound, or !(tmin < tmax) misses everything.
 // - A ray sees sphere i only if SphereView::mask[i] (every bit if the view has no masks) and

@@ -14,8 +14,11 @@
  * calling thread (sphray_last_error()); none throws, aborts or crashes on bad arguments.
  * Empty work is success: a count of 0 reads and writes nothing (its arrays may be NULL; the
  * scene must still be live), and a scene of 0 spheres answers every ray with a miss.
- * Threading: any number of threads may query the same scene at once; create, refit and
- * release must not run concurrently with anything else on the same scene.
+ * Threading: any number of threads may query the same scene at once. sphray_scene_refit while
+ * other threads query the scene is safe but racy: it writes the new values over the scene's
+ * own arrays in place, so such a query reads each sphere's values old or new (possibly a mix
+ * of both) and never freed memory; call it between queries for consistent answers. create,
+ * set_masks and release must not run concurrently with anything else on the same scene.
  * ABI: docs/kernel.md, "From C and other languages"; the library's SONAME is libsphray.so.0. */
 #ifndef SPHRAY_SPHRAY_H
 #define SPHRAY_SPHRAY_H
@@ -107,9 +110,10 @@ SPHRAY_API int sphray_scene_create(const float* cx, const float* cy, const float
                                    const float* r, size_t count, size_t stride_bytes, int accel,
                                    sphray_scene** out);
 
-/* New centres and radii for the same spheres (same count, same ids): the brute-force copy is
- * replaced, a BVH refitted (its shape kept: docs/bvh.md). Same arguments and errors as
- * sphray_scene_create, and invalid argument when count differs from the scene's. */
+/* New centres and radii for the same spheres (same count, same ids): written over the scene's
+ * copy in place, and a BVH refitted (its shape kept: docs/bvh.md). Masks are kept. Queries
+ * running meanwhile on other threads do not crash (see "Threading" above). Same arguments and
+ * errors as sphray_scene_create, and invalid argument when count differs from the scene's. */
 SPHRAY_API int sphray_scene_refit(sphray_scene* scene, const float* cx, const float* cy,
                                   const float* cz, const float* r, size_t count,
                                   size_t stride_bytes);

@@ -10,6 +10,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "brute/radius_range.hpp"
 #include "simd/force_inline.hpp"
 #include "simd/fused.hpp"
 #include "simd/isa_namespace.hpp"
@@ -182,10 +183,12 @@ struct SphereLanes {
     const Floats vx = k * s.dx - gx, vy = k * s.dy - gy, vz = k * s.dz - gz;
     const Floats disc = sp.r * sp.r - (vx * vx + (vy * vy + vz * vz));
     // NaN and infinite sphere fields make disc NaN (infinite centre: inf - inf in v), which
-    // fails the test; radius <= 0 needs its own.
+    // fails the test; a radius of 2^64 or more makes r^2 infinite and the roots +-inf or NaN,
+    // never inside (tmin, tmax). A radius below kMinRadius (<= 0 included) needs its own: its
+    // square underflows, and with |v|^2 underflowing too disc is 0 far from the sphere.
     live = disc >= Floats(0.0f);
     if (kSkip == Skip::kAfterDisc && xsimd::none(live)) return false;
-    live = live & (sp.r > Floats(0.0f));
+    live = live & (sp.r >= Floats(kMinRadius));
     const Floats c = k * b - disc;
     const Floats q = b + with_sign_of(xsimd::sqrt(s.a * disc), b);
     const Floats t0 = c / q, t1 = q * s.inv_a;

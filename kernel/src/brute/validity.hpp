@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "brute/radius_range.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/vec3.hpp"
 
@@ -14,10 +15,11 @@ namespace sphray::detail {
 /// is not a normal finite float, a NaN bound, or !(tmin < tmax).
 bool valid_ray(const Ray& ray);
 
-/// False for a NaN or infinite centre component or radius, or a radius <= 0: such a sphere is
-/// never hit.
+/// False for a NaN or infinite centre component, or a radius whose square is not a normal,
+/// finite float (radius_range.hpp: NaN, <= 0, below 2^-63 or from 2^64 on): such a sphere is
+/// never hit, and never found by the point queries.
 inline bool valid_sphere(Vec3 center, float radius) {
-  return isfinite(center) && std::isfinite(radius) && radius > 0.0f;
+  return isfinite(center) && radius >= kMinRadius && radius < kRadiusLimit;
 }
 
 }  // namespace sphray::detail

@@ -79,11 +79,17 @@ int sphray_scene_refit(sphray_scene* handle, const float* cx, const float* cy, c
   if (count != scene.spheres.size())
     return fail(SPHRAY_ERROR_INVALID_ARGUMENT, kFunction, "count differs from the scene's");
   return guarded(kFunction, [&] {
-    // The copy is made first: if it cannot be, the scene is left as it was.
-    sphray::SphereSoA spheres = copy(arrays);
-    copy_masks(scene.spheres, spheres);
-    if (scene.bvh) scene.bvh->refit(spheres.view());
-    scene.spheres = std::move(spheres);
+    // The tree first, from a copy: if that cannot be made, the scene is left as it was. Then
+    // the scene's own spheres (brute force's, and what surface() reads) are overwritten in
+    // place, which cannot fail. Replacing them, as refit once did, freed the arrays under any
+    // query still reading them: a crash (issue 30). In place, such a query sees each value old
+    // or new, at no cost to queries (no lock, no reader count).
+    if (scene.bvh) {
+      sphray::SphereSoA spheres = copy(arrays);
+      copy_masks(scene.spheres, spheres);
+      scene.bvh->refit(spheres.view());
+    }
+    overwrite(arrays, scene.spheres);
     return SPHRAY_OK;
   });
 }

@@ -50,4 +50,13 @@ SphereSoA copy(const SphereArrays& a) {
   return spheres;
 }
 
+void overwrite(const SphereArrays& a, SphereSoA& spheres) {
+  const std::size_t stride = a.stride_bytes == 0 ? sizeof(float) : a.stride_bytes;
+  for (std::size_t i = 0; i < a.count; ++i) {
+    spheres.set(static_cast<std::uint32_t>(i),
+                {read(a.cx, i, stride), read(a.cy, i, stride), read(a.cz, i, stride)},
+                read(a.r, i, stride));
+  }
+}
+
 }  // namespace sphray::c_api

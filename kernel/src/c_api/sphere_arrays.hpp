@@ -25,4 +25,10 @@ int check(const SphereArrays& arrays, const char* function) noexcept;
 /// The spheres, copied. Call after check().
 SphereSoA copy(const SphereArrays& arrays);
 
+/// The spheres written over those of spheres (the same count, checked by the caller), in
+/// place: spheres keeps its arrays, so a query that reads them meanwhile (a documented race,
+/// sphray.h) sees each value old or new, never freed memory. Allocates nothing and cannot
+/// fail. Masks are kept.
+void overwrite(const SphereArrays& arrays, SphereSoA& spheres);
+
 }  // namespace sphray::c_api

@@ -9,6 +9,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "brute/radius_range.hpp"
 #include "brute/sphere_lanes.hpp"
 #include "simd/isa_namespace.hpp"
 #include "sphray/vec3.hpp"
@@ -29,13 +30,13 @@ struct PointLanes {
   static Point setup(Vec3 p) { return {Floats(p.x), Floats(p.y), Floats(p.z)}; }
 
   // Per lane: the signed distance, and whether the sphere takes part at all (the contract's
-  // valid spheres: every field finite, radius > 0; x - x is 0 exactly for finite x, NaN
-  // otherwise). Padding lanes have radius 0.
+  // valid spheres: a finite centre, kMinRadius <= r < kRadiusLimit, which also refuses a NaN
+  // radius; x - x is 0 exactly for finite x, NaN otherwise). Padding lanes have radius 0.
   static Floats signed_distance(const Point& p, const Spheres& sp, Mask& valid) {
     const Floats gx = sp.cx - p.x, gy = sp.cy - p.y, gz = sp.cz - p.z;
     const Floats zero(0.0f);
-    valid = (sp.r > zero) &
-            (((sp.cx - sp.cx) + (sp.cy - sp.cy)) + ((sp.cz - sp.cz) + (sp.r - sp.r)) == zero);
+    valid = (sp.r >= Floats(kMinRadius)) & (sp.r < Floats(kRadiusLimit)) &
+            (((sp.cx - sp.cx) + (sp.cy - sp.cy)) + (sp.cz - sp.cz) == zero);
     return xsimd::sqrt(gx * gx + (gy * gy + gz * gz)) - sp.r;
   }
 };
