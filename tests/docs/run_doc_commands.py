@@ -68,12 +68,17 @@ def normalised(text):
 
 
 def scratch_root(repo, where):
-    """A folder whose entries are links to the repository's: the blocks run from there."""
+    """A folder whose entries are links to the repository's: the blocks run from there. Its
+    build folder is its own, holding only a link to build/release: what the blocks build
+    beside it (build/embed, build/rust) starts afresh in every run, never from a cache that a
+    run from another folder left."""
     root = Path(where) / "repo"
     root.mkdir()
     for entry in repo.iterdir():
-        if entry.name != ".git":
+        if entry.name not in (".git", "build"):
             (root / entry.name).symlink_to(entry)
+    (root / "build").mkdir()
+    (root / "build" / "release").symlink_to(repo / "build" / "release")
     return root
 
 
