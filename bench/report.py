@@ -981,6 +981,47 @@ drift by 1.5x between runs); ratios taken within one run are the figures to comp
 - Timing: wall-clock time of whole passes over the ray set (Google Benchmark, real time)."""
 
 
+# --- the batch overlap queries against SciPy's cKDTree (bench/python_vs_ckdtree.py) -------
+
+CKDTREE_HEADING = "## The batch overlap queries against SciPy's cKDTree"
+
+
+def ckdtree_section(data):
+    ctx, rows = data.get("context", {}), data.get("rows", [])
+    if not rows:
+        return ""
+    out = [CKDTREE_HEADING, "",
+           "A simulation's broad phase in Python: `Scene.overlaps(points, 0)` (the spheres each point",
+           "lies in) against `cKDTree.query_ball_point(points, R, workers=-1)` on the spheres' centres,",
+           "and `Scene.overlapping_pairs()` against `cKDTree.query_pairs(2R, output_type='ndarray')`.",
+           "N equal spheres of radius R = 0.5 (cKDTree's balls have one radius; sphray's may differ),",
+           "centres uniform in a box of N unit volumes, and N points uniform in it; both on every core.",
+           "Times are the calls alone, best of "
+           f"{ctx.get('repeats', '?')}; the trees' builds apart. Python {ctx.get('python', '?')}, "
+           f"SciPy {ctx.get('scipy', '?')}, sphray on {ctx.get('sphray_isa', '?')}, "
+           f"{ctx.get('threads', '?')} threads, {ctx.get('cpu', '?')}"
+           + (f", load average {ctx['load_avg']:.1f} at the start." if "load_avg" in ctx else "."),
+           f"Command: `{ctx.get('command', 'bench/python_vs_ckdtree.py')}` ({ctx.get('date', '')}).", ""]
+    header = ["spheres", "overlaps", "query_ball_point", "cKDTree / sphray", "rows agree",
+              "overlapping_pairs", "query_pairs", "cKDTree / sphray", "pairs agree",
+              "build: Scene", "build: cKDTree"]
+    body = []
+    for r in rows:
+        body.append([f"{r['spheres']:,}", f"{r['overlaps_s']:.3f} s", f"{r['query_ball_point_s']:.3f} s",
+                     fmt_ratio(r["query_ball_point_s"] / r["overlaps_s"]), f"{r['rows_agree']:.4%}",
+                     f"{r['overlapping_pairs_s']:.3f} s", f"{r['query_pairs_s']:.3f} s",
+                     fmt_ratio(r["query_pairs_s"] / r["overlapping_pairs_s"]),
+                     f"{r['pairs_agree']:.4%} of {r['pairs']:,}",
+                     f"{r['sphray_build_s']:.3f} s", f"{r['ckdtree_build_s']:.3f} s"])
+    out += [table(header, body), "",
+            "\"Agree\" counts the points whose lists are equal and the pairs both found: they differ only",
+            "where a distance equals the radius exactly (cKDTree counts it in, sphray out). Each",
+            "sphray query walks the tree once per ball, in the Morton order of the balls so that",
+            "neighbouring queries find the nodes in the caches; `query_pairs` walks two trees against",
+            "each other, which is why the pairs gain less."]
+    return "\n".join(out)
+
+
 OPEN3D_HEADING = "## The Python module against Open3D"
 OPEN3D_BEFORE = "## Cycles per batch"  # where main() places the section
 
@@ -1003,7 +1044,7 @@ def update_section(docs, heading, section, before=OPEN3D_BEFORE):
     print(f"updated \"{heading[3:]}\" in {page_path}")
 
 
-def update_python_sections(docs, numpy_data, open3d_data):
+def update_python_sections(docs, numpy_data, open3d_data, ckdtree_data=None):
     images = docs / "images"
     images.mkdir(parents=True, exist_ok=True)
     if numpy_data:
@@ -1013,6 +1054,9 @@ def update_python_sections(docs, numpy_data, open3d_data):
     if open3d_data:
         plot_open3d(open3d_data, images / "perf-python-open3d.png")
         update_section(docs, OPEN3D_HEADING, open3d_section(open3d_data, "images/perf-python-open3d.png"))
+    if ckdtree_data:
+        update_section(docs, CKDTREE_HEADING, ckdtree_section(ckdtree_data),
+                       before="## Earlier measurements")
 
 
 # Measurements of single changes, each made with its own command (`sphray bench`, or sphray_bench
@@ -1036,13 +1080,16 @@ def main(argv):
     ap.add_argument("--command", default="bench/run.sh", help="the command that made the run, for the page")
     ap.add_argument("--open3d", type=Path, help="output of bench/python_vs_open3d.py, for its section")
     ap.add_argument("--numpy", type=Path, help="output of bench/python_vs_numpy.py, for its section")
+    ap.add_argument("--ckdtree", type=Path, help="output of bench/python_vs_ckdtree.py, for its section")
     args = ap.parse_args(argv)
     numpy_data = json.loads(args.numpy.read_text()) if args.numpy and args.numpy.exists() else {}
     open3d = json.loads(args.open3d.read_text()) if args.open3d and args.open3d.exists() else {}
+    ckdtree = json.loads(args.ckdtree.read_text()) if args.ckdtree and args.ckdtree.exists() else {}
     if args.json is None:
-        if not numpy_data and not open3d:
-            ap.error("give the sphray_bench JSON, or --numpy and/or --open3d to update those sections")
-        update_python_sections(args.docs, numpy_data, open3d)
+        if not numpy_data and not open3d and not ckdtree:
+            ap.error("give the sphray_bench JSON, or --numpy, --open3d and/or --ckdtree to update "
+                     "those sections")
+        update_python_sections(args.docs, numpy_data, open3d, ckdtree)
         return
 
     data = json.loads(args.json.read_text())
@@ -1073,6 +1120,7 @@ def main(argv):
         build_table(res),
         numpy_section(numpy_data, "images/perf-python-numpy.png"),
         open3d_section(open3d, "images/perf-python-open3d.png"),
+        ckdtree_section(ckdtree),
         HISTORY_POINTER,
         cycles_section(res),
         failures_section(res),

@@ -8,10 +8,11 @@
 #
 # A full run takes several minutes on a 2-core machine; run it on a quiet one.
 #
-# The Python module against numpy (bench/python_vs_numpy.py) and against Open3D
-# (bench/python_vs_open3d.py) run too, with the module from build/release/python
-# (SPHRAY_PYTHON_DIR overrides); bench/install-open3d installs Open3D first unless
-# SPHRAY_BENCH_NO_INSTALL=1. Without Open3D or the module, that section is left out.
+# The Python module against numpy (bench/python_vs_numpy.py), against Open3D
+# (bench/python_vs_open3d.py) and against SciPy's cKDTree (bench/python_vs_ckdtree.py) run too,
+# with the module from build/release/python (SPHRAY_PYTHON_DIR overrides);
+# bench/install-python-peers installs Open3D and SciPy first unless SPHRAY_BENCH_NO_INSTALL=1.
+# Without a library or the module, its section is left out.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -63,18 +64,27 @@ else
 fi
 open3d_json=$out_dir/python_vs_open3d.json
 rm -f "$open3d_json"
-[[ ${SPHRAY_BENCH_NO_INSTALL:-0} == 1 ]] || bash bench/install-open3d || true
+[[ ${SPHRAY_BENCH_NO_INSTALL:-0} == 1 ]] || bash bench/install-python-peers || true
 if PYTHONPATH=$module_dir /usr/bin/python3 -c 'import open3d, sphray' 2>/dev/null; then
   PYTHONPATH=$module_dir /usr/bin/python3 bench/python_vs_open3d.py --out "$open3d_json"
 else
   echo "bench/run.sh: Open3D or the sphray module ($module_dir) not importable; no Open3D section"
 fi
+ckdtree_json=$out_dir/python_vs_ckdtree.json
+rm -f "$ckdtree_json"
+if PYTHONPATH=$module_dir /usr/bin/python3 -c 'import scipy, sphray' 2>/dev/null; then
+  PYTHONPATH=$module_dir /usr/bin/python3 bench/python_vs_ckdtree.py --out "$ckdtree_json" \
+    --command "$py_command"
+else
+  echo "bench/run.sh: SciPy or the sphray module ($module_dir) not importable; no cKDTree section"
+fi
 
 if [[ $python_only == 1 ]]; then
-  [[ -f $numpy_json || -f $open3d_json ]] ||
+  [[ -f $numpy_json || -f $open3d_json || -f $ckdtree_json ]] ||
     { echo "bench/run.sh: no Python results to report" >&2; exit 1; }
-  "$python" bench/report.py --numpy "$numpy_json" --open3d "$open3d_json"
+  "$python" bench/report.py --numpy "$numpy_json" --open3d "$open3d_json" \
+    --ckdtree "$ckdtree_json"
 else
   "$python" bench/report.py "$json" --numpy "$numpy_json" --open3d "$open3d_json" \
-    --command "bench/run.sh (${flags[*]}${*:+ $*})"
+    --ckdtree "$ckdtree_json" --command "bench/run.sh (${flags[*]}${*:+ $*})"
 fi

@@ -90,6 +90,12 @@ class Scene:
         """Whether each point lies inside any sphere."""
     def overlapping(self, centre: _ArrayLike, radius: float) -> npt.NDArray[np.uint32]:
         """The ids of the spheres overlapping a ball, ascending."""
+    def overlaps(
+        self, centers: _ArrayLike, radii: _ArrayLike
+    ) -> Tuple[npt.NDArray[np.int64], npt.NDArray[np.uint32]]:
+        """(offsets, ids): ball i's overlapping spheres in ids[offsets[i]:offsets[i + 1]]."""
+    def overlapping_pairs(self) -> npt.NDArray[np.uint32]:
+        """(P, 2): the pairs (i, j), i < j, of the scene's spheres where j overlaps ball i."""
     def refit(
         self, centers: _ArrayLike, radii: _ArrayLike, masks: Optional[_ArrayLike] = None
     ) -> None:

@@ -149,6 +149,20 @@ The ids (uint32, ascending) of the spheres that overlap the ball of this centre 
 radius: |c - centre| < r + radius (touching is not overlapping). Collision candidates. A
 negative or NaN radius, or a NaN centre, gives an empty array.)doc";
 
+constexpr const char* kOverlapsDoc = R"doc(overlaps(centers, radii) -> (offsets, ids)
+
+overlapping() for many balls at once, on all cores with the GIL released: a simulation's broad
+phase. centers (..., 3), taken row by row in C order; radii one number or one per row. Returns
+the sparse row layout of scipy's CSR matrices: offsets (M + 1,) int64 and ids uint32, the ids
+of ball i (ascending) being ids[offsets[i]:offsets[i + 1]]. Exact for unequal radii: sphere j
+overlaps ball i when |c_j - centre_i| < r_j + radius_i, as overlapping() decides it.)doc";
+
+constexpr const char* kOverlappingPairsDoc = R"doc(overlapping_pairs() -> (P, 2) uint32
+
+Every pair of the scene's own spheres that overlap: rows (i, j), i < j, where sphere j overlaps
+the ball of sphere i (overlapping(centers[i], radii[i])), sorted by i then j. scipy's
+cKDTree.query_pairs for spheres of any radii.)doc";
+
 constexpr const char* kRefitDoc = R"doc(refit(centers, radii, masks=None)
 
 Moves the scene's spheres.
@@ -261,6 +275,9 @@ PYBIND11_MODULE(sphray, m) {
       .def("inside", on_scene(&Scene::inside), py::arg("points"), kInsideDoc)
       .def("overlapping", on_scene(&Scene::overlapping), py::arg("centre"), py::arg("radius"),
            kOverlappingDoc)
+      .def("overlaps", on_scene(&Scene::overlaps), py::arg("centers"), py::arg("radii"),
+           kOverlapsDoc)
+      .def("overlapping_pairs", on_scene(&Scene::overlapping_pairs), kOverlappingPairsDoc)
       .def("refit", on_scene(&Scene::refit), py::arg("centers"), py::arg("radii"),
            py::arg("masks") = py::none(), kRefitDoc)
       .def("__len__", on_scene(&Scene::size), "len(scene): the number of spheres.")

@@ -3,9 +3,16 @@
 // batches in chunks over oneTBB's workers, the reader lock against refit.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <mutex>
+#include <span>
+#include <utility>
 #include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include "arrays.hpp"
 #include "ray_batches.hpp"
@@ -145,6 +152,180 @@ py::array Scene::overlapping(const py::handle& centre, float radius) const {
   auto out = new_array<std::uint32_t>({static_cast<py::ssize_t>(ids.size())});
   std::copy(ids.begin(), ids.end(), out.mutable_data());
   return out;
+}
+
+namespace {
+
+// Ids per ball before a second, exact query is needed: most balls of a simulation's broad phase
+// overlap a handful of spheres.
+constexpr std::size_t kIdsGuess = 32;
+
+// The ids of the spheres a query(out) finds, appended to ids: one query when they fit the
+// guess, else a second with room for all.
+template <class Query>
+std::size_t append_ids(std::vector<std::uint32_t>& ids, const Query& query) {
+  const std::size_t at = ids.size();
+  ids.resize(at + kIdsGuess);
+  const std::size_t total = query(std::span<std::uint32_t>(ids.data() + at, kIdsGuess));
+  ids.resize(at + total);
+  if (total > kIdsGuess) query(std::span<std::uint32_t>(ids.data() + at, total));
+  return total;
+}
+
+// x's 10 bits spread to every third bit: one axis of a 30-bit Morton code.
+std::uint32_t spread_bits(std::uint32_t x) {
+  x = (x | (x << 16)) & 0x030000FFu;
+  x = (x | (x << 8)) & 0x0300F00Fu;
+  x = (x | (x << 4)) & 0x030C30C3u;
+  return (x | (x << 2)) & 0x09249249u;
+}
+
+// The balls 0..n-1 in Morton order of their centres (centre(i) -> Vec3) in the box of them all:
+// neighbouring queries then walk the same nodes of the tree, which stay in the caches, where
+// queries in the caller's order (random, for particles) wait on memory at nearly every node.
+// The order changes no answer. Centres that are not finite go first.
+template <class Centre>
+std::vector<std::uint32_t> spatial_order(std::size_t n, const Centre& centre) {
+  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 c = centre(i);
+    if (!isfinite(c)) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      lo[axis] = std::min(lo[axis], c[axis]);
+      hi[axis] = std::max(hi[axis], c[axis]);
+    }
+  }
+  std::vector<std::uint64_t> keyed(n);  // Morton code above, index below
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) {
+      const Vec3 c = centre(i);
+      std::uint32_t code = 0;
+      if (isfinite(c)) {
+        for (int axis = 0; axis < 3; ++axis) {
+          const float extent = hi[axis] - lo[axis];
+          const float unit = extent > 0.0f ? (c[axis] - lo[axis]) / extent : 0.0f;
+          const auto cell = static_cast<std::uint32_t>(std::min(unit * 1024.0f, 1023.0f));
+          code |= spread_bits(cell) << axis;
+        }
+      }
+      keyed[i] = std::uint64_t{code} << 32 | i;
+    }
+  });
+  tbb::parallel_sort(keyed.begin(), keyed.end());
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t s = 0; s < n; ++s)
+    order[s] = static_cast<std::uint32_t>(keyed[s]);
+  return order;
+}
+
+// Lists made in the order `order` (lists[k] the ids of its positions in chunk k, counts[i] the
+// number of ball i) to the sparse row layout in the balls' own order: offsets[0..n] and
+// emit(out_row, i, id) for each id of each ball, out_row its index in the result.
+template <class Emit>
+void scatter_lists(const std::vector<std::vector<std::uint32_t>>& lists,
+                   const std::vector<std::uint32_t>& order, std::int64_t* offsets,
+                   const Emit& emit) {
+  const std::size_t n = order.size();
+  std::int64_t sum = 0;  // offsets[1..n] hold the counts: shift them into running sums
+  for (std::size_t i = 0; i <= n; ++i) {
+    const std::int64_t count = i < n ? offsets[i + 1] : 0;
+    offsets[i] = sum;
+    sum += count;
+  }
+  for (std::size_t k = 0; k < lists.size(); ++k) {
+    const std::uint32_t* id = lists[k].data();
+    for (std::size_t s = k * kChunkRays; s < std::min(n, (k + 1) * kChunkRays); ++s) {
+      const std::uint32_t i = order[s];
+      for (std::int64_t row = offsets[i]; row < offsets[i + 1]; ++row)
+        emit(row, i, *id++);
+    }
+  }
+}
+
+}  // namespace
+
+template <class Ball, class Keep>
+std::vector<std::vector<std::uint32_t>> Scene::overlap_lists(
+    const std::vector<std::uint32_t>& order, const Ball& ball, const Keep& keep,
+    std::int64_t* counts) const {
+  std::vector<std::vector<std::uint32_t>> lists((order.size() + kChunkRays - 1) / kChunkRays);
+  for_each_chunk(order.size(), [&](std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t>& ids = lists[begin / kChunkRays];
+    for (std::size_t s = begin; s < end; ++s) {
+      const std::uint32_t i = order[s];
+      const auto [centre, radius] = ball(i);
+      const std::size_t at = ids.size();
+      append_ids(ids, [&](std::span<std::uint32_t> out) {
+        return answer(
+            [&](const auto& spheres) { return sphray::overlapping(spheres, centre, radius, out); });
+      });
+      const auto kept = std::remove_if(ids.begin() + static_cast<std::ptrdiff_t>(at), ids.end(),
+                                       [&](std::uint32_t id) { return !keep(i, id); });
+      ids.erase(kept, ids.end());
+      counts[i] = static_cast<std::int64_t>(ids.size() - at);
+    }
+  });
+  return lists;
+}
+
+py::tuple Scene::overlaps(const py::handle& centers, const py::handle& radii) const {
+  const Vec3Rows c("centers", centers);
+  const FloatPerRow r("radii", radii, c.leading_shape());
+  const std::size_t n = c.size();
+  auto offsets = new_array<std::int64_t>({static_cast<py::ssize_t>(n + 1)});
+  std::int64_t* off = offsets.mutable_data();
+  std::vector<std::uint32_t> order;
+  std::vector<std::vector<std::uint32_t>> lists;
+  {
+    py::gil_scoped_release release;
+    std::shared_lock lock(mutex_);
+    order = spatial_order(n, [&](std::size_t i) { return c[i]; });
+    lists = overlap_lists(
+        order,
+        [&](std::size_t i) {
+          return std::pair{c[i], r[i]};
+        },
+        [](std::size_t, std::uint32_t) { return true; }, off + 1);
+  }
+  std::int64_t total = 0;
+  for (const auto& list : lists)
+    total += static_cast<std::int64_t>(list.size());
+  auto ids = new_array<std::uint32_t>({static_cast<py::ssize_t>(total)});
+  std::uint32_t* out = ids.mutable_data();
+  scatter_lists(lists, order, off,
+                [&](std::int64_t row, std::uint32_t, std::uint32_t id) { out[row] = id; });
+  return py::make_tuple(offsets, ids);
+}
+
+py::array Scene::overlapping_pairs() const {
+  const std::size_t n = spheres_.size();
+  std::vector<std::int64_t> offsets(n + 1);
+  std::vector<std::uint32_t> order;
+  std::vector<std::vector<std::uint32_t>> lists;
+  {
+    py::gil_scoped_release release;
+    std::shared_lock lock(mutex_);
+    const SphereView v = spheres_.view();
+    const auto centre = [&](std::size_t i) { return Vec3{v.cx[i], v.cy[i], v.cz[i]}; };
+    order = spatial_order(n, centre);
+    lists = overlap_lists(
+        order,
+        [&](std::size_t i) {
+          return std::pair{centre(i), v.radius[i]};
+        },
+        [](std::size_t i, std::uint32_t j) { return j > i; }, offsets.data() + 1);
+  }
+  std::int64_t total = 0;
+  for (const auto& list : lists)
+    total += static_cast<std::int64_t>(list.size());
+  auto pairs = new_array<std::uint32_t>({static_cast<py::ssize_t>(total)}, {2});
+  std::uint32_t* out = pairs.mutable_data();
+  scatter_lists(lists, order, offsets.data(),
+                [&](std::int64_t row, std::uint32_t i, std::uint32_t j) {
+                  out[2 * row] = i;
+                  out[2 * row + 1] = j;
+                });
+  return pairs;
 }
 
 }  // namespace sphray::python

@@ -22,25 +22,27 @@ inline constexpr std::size_t kChunkRays = 1024;
 /// than the trace.
 inline constexpr std::size_t kParallelFromRays = 4 * kChunkRays;
 
-/// Calls chunk(begin, end) over [0, count) in pieces of at most kChunkRays, in parallel for
-/// large counts. chunk must be safe to call from several threads at once on disjoint ranges.
-/// Throws Interrupted when a signal handler raised meanwhile (to be called without the GIL).
+/// Calls chunk(begin, end) over [0, count) in pieces of kChunkRays (the last may be shorter),
+/// piece k covering [k kChunkRays, (k + 1) kChunkRays), in parallel for large counts. chunk
+/// must be safe to call from several threads at once on disjoint ranges. Throws Interrupted
+/// when a signal handler raised meanwhile (to be called without the GIL).
 template <typename Chunk>
 void for_each_chunk(std::size_t count, const Chunk& chunk) {
   Interruption interruption;
+  const auto run = [&](std::size_t k) {
+    chunk(k * kChunkRays, std::min(count, (k + 1) * kChunkRays));
+    interruption.check();
+  };
+  const std::size_t chunks = (count + kChunkRays - 1) / kChunkRays;
   if (count < kParallelFromRays) {
-    for (std::size_t begin = 0; begin < count; begin += kChunkRays) {
-      chunk(begin, std::min(count, begin + kChunkRays));
-      interruption.check();
-    }
+    for (std::size_t k = 0; k < chunks; ++k)
+      run(k);
     return;
   }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kChunkRays),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t begin = r.begin(); begin < r.end(); begin += kChunkRays) {
-                        chunk(begin, std::min(r.end(), begin + kChunkRays));
-                        interruption.check();
-                      }
+                      for (std::size_t k = r.begin(); k < r.end(); ++k)
+                        run(k);
                     });
 }
 
