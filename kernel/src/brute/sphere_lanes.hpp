@@ -51,9 +51,15 @@ struct SphereLanes {
 
   static bool finite(float x) { return __builtin_isfinite(x); }
 
+  // What setup() derives from one ray's direction, before broadcasting it: a = |d|^2, 1/a and
+  // 1/|d|. The rays-across stream (brute/ray_lanes.hpp) puts these of kWidth rays side by side.
+  struct RayScalars {
+    float a, inv_a, inv_length;
+  };
+
   // False for the rays the contract says miss everything. a = |d|^2 must be a normal, finite
   // float: 1/a is then finite too.
-  SPHRAY_FORCE_INLINE static bool setup(const Ray& ray, RaySetup& s) {
+  SPHRAY_FORCE_INLINE static bool scalars(const Ray& ray, RayScalars& sc) {
     const Vec3& o = ray.origin;
     const Vec3& d = ray.dir;
     const float a = d.x * d.x + d.y * d.y + d.z * d.z;
@@ -61,18 +67,27 @@ struct SphereLanes {
                     finite(d.z) && ray.tmin < ray.tmax && a >= 0x1p-126f && finite(a) &&
                     ray.mask != 0;
     if (!ok) return false;
-    const float inv_length = 1.0f / __builtin_sqrtf(a);
+    sc = RayScalars{a, 1.0f / a, 1.0f / __builtin_sqrtf(a)};
+    return true;
+  }
+
+  // False for the rays the contract says miss everything (scalars()).
+  SPHRAY_FORCE_INLINE static bool setup(const Ray& ray, RaySetup& s) {
+    RayScalars sc;
+    if (!scalars(ray, sc)) return false;
+    const Vec3& o = ray.origin;
+    const Vec3& d = ray.dir;
     s = RaySetup{Floats(o.x),
                  Floats(o.y),
                  Floats(o.z),
                  Floats(d.x),
                  Floats(d.y),
                  Floats(d.z),
-                 Floats(d.x * inv_length),
-                 Floats(d.y * inv_length),
-                 Floats(d.z * inv_length),
-                 Floats(a),
-                 Floats(1.0f / a),
+                 Floats(d.x * sc.inv_length),
+                 Floats(d.y * sc.inv_length),
+                 Floats(d.z * sc.inv_length),
+                 Floats(sc.a),
+                 Floats(sc.inv_a),
                  Floats(ray.tmin),
                  ray.tmax,
                  ray.mask};

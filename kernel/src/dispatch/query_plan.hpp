@@ -13,6 +13,8 @@
 //                                        lines into packets (both streams)
 //                                     8. at a packet's leaf, rays one at a time or in lanes
 //                                        (occlusion)
+//   sphray::intersect(view, rays, ..) 9. one ray at a time, or the rays across the lanes
+//   sphray::occluded(view, rays, ..)     (few spheres; also small trees built flat)
 //
 // Measured in docs/performance.md and docs/bvh.md; docs/architecture.md follows a ray through.
 #pragma once
@@ -191,6 +193,17 @@ struct QueryPlan {
   // lanes from as many rays as spheres, or from a quarter as many, measured as this rule
   // (from half as many) within the noise.
   static bool leaf_across(std::size_t rays, std::size_t spheres) { return 2 * rays >= spheres; }
+
+  // 9. A stream on a view of few spheres puts its rays in the lanes, a batch of rays against
+  // one broadcast sphere at a time (brute/ray_lanes.hpp), instead of one ray against batches of
+  // spheres: a batch of spheres is then mostly padding, and each ray pays its set-up and the
+  // horizontal reduction for a handful of sphere tests. Rays across the lanes test every sphere
+  // for every ray, with no pre-test skipping batches far from the ray: up to kAcrossUpTo spheres
+  // it is the faster, measured with the dispatched stream against it on random scenes of 1 to
+  // 64 spheres, camera and random rays (docs/performance.md, "Rays across the lanes"). The
+  // widest instruction set takes such streams (query.cpp). Same bits either way.
+  static constexpr std::size_t kAcrossUpTo = 32;
+  static bool rays_across(std::size_t sphere_count) { return sphere_count <= kAcrossUpTo; }
 };
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

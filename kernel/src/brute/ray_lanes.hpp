@@ -1,0 +1,159 @@
+// Brute force transposed, written once over an xsimd architecture A: kWidth rays of a stream in
+// the lanes of one register (4 for SSE4.2 and NEON, 8 for AVX2, 16 for AVX-512), the spheres of
+// a view one at a time, each broadcast to every lane. For streams on views of few spheres, where
+// one ray against a batch of spheres leaves most lanes empty and pays its set-up and horizontal
+// reduction for a handful of sphere tests (QueryPlan::rays_across). Each per-ISA unit compiles it
+// into its own namespace (simd/isa_namespace.hpp).
+//
+// The same answers bit for bit as one ray at a time (BruteForce<A>, the scalar reference): each
+// ray is set up by SphereLanes::scalars, as SphereLanes::setup does, and each (ray, sphere) pair
+// takes in its lane the very operations of SphereLanes::roots; the masks' test is an and, which
+// commutes. Spheres come in id order and a lane keeps a later one only on a strictly smaller t,
+// so ties go to the lower id.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "brute/brute_force.hpp"
+#include "brute/sphere_lanes.hpp"
+#include "simd/force_inline.hpp"
+#include "simd/isa_namespace.hpp"
+#include "simd/lane_reduce.hpp"
+#include "sphray/ray.hpp"
+#include "sphray/spheres.hpp"
+
+namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
+
+template <class A>
+struct RayLanes {
+  using Lanes = SphereLanes<A>;
+  using Floats = typename Lanes::Floats;
+  using Mask = typename Lanes::Mask;
+  using Uints = typename Lanes::Uints;
+  using RaySetup = typename Lanes::RaySetup;
+  using Spheres = typename Lanes::Spheres;
+  static constexpr std::size_t kWidth = Lanes::kWidth;
+
+  // Up to kWidth consecutive rays of a stream, one per lane. A lane whose ray the contract
+  // rejects, or past the stream's end, holds a finite dummy ray whose end is -inf: no t lies
+  // below it, and its mask of 0 sees no sphere.
+  struct Group {
+    RaySetup rays;  // ux, uy, uz unset: only the pre-test reads them, and it is not asked here
+    Floats end;     // tmax, or -inf for a dummy lane
+    Uints masks;
+
+    Mask open() const { return end > Floats(-__builtin_inff()); }
+  };
+
+  template <class Rays>
+  SPHRAY_FORCE_INLINE static Group gather(const Rays& rays, std::size_t count) {
+    alignas(64) float ox[kWidth], oy[kWidth], oz[kWidth], dx[kWidth], dy[kWidth], dz[kWidth];
+    alignas(64) float a[kWidth], inv_a[kWidth], tmin[kWidth], end[kWidth];
+    alignas(64) std::uint32_t masks[kWidth];
+    for (std::size_t k = 0; k < kWidth; ++k) {
+      typename Lanes::RayScalars sc{3.0f, 1.0f / 3.0f, 0.0f};
+      Ray ray{{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}, 0.0f, -__builtin_inff(), 0u};
+      if (k < count) {
+        const Ray r = rays[k];
+        if (Lanes::scalars(r, sc)) ray = r;
+      }
+      ox[k] = ray.origin.x, oy[k] = ray.origin.y, oz[k] = ray.origin.z;
+      dx[k] = ray.dir.x, dy[k] = ray.dir.y, dz[k] = ray.dir.z;
+      a[k] = sc.a, inv_a[k] = sc.inv_a, tmin[k] = ray.tmin, end[k] = ray.tmax;
+      masks[k] = ray.mask;
+    }
+    const auto load = [](const float* x) { return Floats::load_aligned(x); };
+    return {{load(ox), load(oy), load(oz), load(dx), load(dy), load(dz), Floats(0.0f), Floats(0.0f),
+             Floats(0.0f), load(a), load(inv_a), load(tmin), 0.0f, 0u},
+            load(end),
+            Uints::load_aligned(masks)};
+  }
+
+  // Sphere j of v in every lane, made never-hit (radius 0) in the lanes whose ray cannot see it.
+  template <bool kMasked>
+  SPHRAY_FORCE_INLINE static Spheres broadcast(const SphereView& v, std::size_t j,
+                                               const Uints& ray_masks) {
+    Spheres sphere{Floats(v.cx[j]), Floats(v.cy[j]), Floats(v.cz[j]), Floats(v.radius[j])};
+    if constexpr (kMasked) Lanes::hide_unseen(sphere, ray_masks, v.mask[j]);
+    return sphere;
+  }
+
+  // The lanes of open that some sphere of v, ids [i, i + count), blocks strictly between their
+  // tmin and end. Stops once every open lane is blocked.
+  template <bool kMasked>
+  SPHRAY_FORCE_INLINE static Mask any_hit(const SphereView& v, const RaySetup& rays,
+                                          const Floats& end, const Uints& ray_masks, std::size_t i,
+                                          std::size_t count, Mask open) {
+    Mask blocked(false);
+    for (std::size_t j = i; j < i + count; ++j) {
+      Floats t;
+      Mask live;
+      const Spheres sphere = broadcast<kMasked>(v, j, ray_masks);
+      if (!Lanes::template roots<Skip::kAfterDisc>(rays, sphere, t, live)) continue;
+      blocked = blocked | (live & (t > rays.tmin) & (t < end));
+      if (xsimd::none(open & ~blocked)) break;
+    }
+    return open & blocked;
+  }
+
+  // Each lane's closest hit among the spheres of v (v.count <= kNoHit): its t and id, the id
+  // kNoHit where none lies in (tmin, tmax).
+  template <bool kMasked>
+  SPHRAY_FORCE_INLINE static void closest(const SphereView& v, const Group& g, Floats& best_t,
+                                          Floats& best_id) {
+    using Brute = BruteForce<A>;
+    best_t = g.end;
+    best_id = Brute::index_bits(kNoHit);
+    for (std::size_t j = 0; j < v.count; ++j) {
+      Floats t;
+      Mask live;
+      const Spheres sphere = broadcast<kMasked>(v, j, g.masks);
+      if (!Lanes::template roots<Skip::kAfterDisc>(g.rays, sphere, t, live)) continue;
+      const Mask hit = live & (t > g.rays.tmin) & (t < best_t);
+      best_t = xsimd::select(hit, t, best_t);
+      best_id = xsimd::select(hit, Brute::index_bits(static_cast<std::uint32_t>(j)), best_id);
+    }
+  }
+
+  // hits[i] = BruteForce<A>::intersect(v, rays[i]) for i < n. Rays: `const Ray*` or RayColumns,
+  // Hits: `Hit*` or HitColumns (storage/ray_columns.hpp).
+  template <class Rays, class Hits>
+  static void intersect_stream(SphereView v, Rays rays, Hits hits, std::size_t n) {
+    v = BruteForce<A>::clamp(v);
+    for (std::size_t first = 0; first < n; first += kWidth) {
+      const std::size_t count = n - first < kWidth ? n - first : kWidth;
+      const Group g = gather(rays + first, count);
+      Floats best_t, best_id;
+      if (v.mask != nullptr)
+        closest<true>(v, g, best_t, best_id);
+      else
+        closest<false>(v, g, best_t, best_id);
+      alignas(64) float t[kWidth];
+      alignas(64) std::uint32_t id[kWidth];
+      best_t.store_aligned(t);
+      xsimd::bitwise_cast<Uints>(best_id).store_aligned(id);
+      for (std::size_t k = 0; k < count; ++k)
+        hits[first + k] = id[k] == kNoHit ? Hit{rays[first + k].tmax, kNoHit} : Hit{t[k], id[k]};
+    }
+  }
+
+  // blocked[i] = BruteForce<A>::occluded(v, rays[i]) for i < n.
+  static void occluded_stream(SphereView v, const Ray* rays, bool* blocked, std::size_t n) {
+    v = BruteForce<A>::clamp(v);
+    for (std::size_t first = 0; first < n; first += kWidth) {
+      const std::size_t count = n - first < kWidth ? n - first : kWidth;
+      const Group g = gather(rays + first, count);
+      const Mask hit = v.mask != nullptr
+                           ? any_hit<true>(v, g.rays, g.end, g.masks, 0, v.count, g.open())
+                           : any_hit<false>(v, g.rays, g.end, g.masks, 0, v.count, g.open());
+      const unsigned bits = LaneReduce<A>::bits(hit);
+      for (std::size_t k = 0; k < count; ++k)
+        blocked[first + k] = ((bits >> k) & 1u) != 0;
+    }
+  }
+};
+
+}  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE
