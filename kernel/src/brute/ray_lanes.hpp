@@ -39,36 +39,46 @@ struct RayLanes {
 
   // Up to kWidth consecutive rays of a stream, one per lane. A lane whose ray the contract
   // rejects, or past the stream's end, holds a finite dummy ray whose end is -inf: no t lies
-  // below it, and its mask of 0 sees no sphere.
+  // below it, and it is never open.
   struct Group {
     RaySetup rays;  // ux, uy, uz unset: only the pre-test reads them, and it is not asked here
     Floats end;     // tmax, or -inf for a dummy lane
+    Floats tmax;    // the rays' own, what a miss answers
     Uints masks;
 
     Mask open() const { return end > Floats(-__builtin_inff()); }
   };
 
+  // The rays' fields side by side, then the set-up of SphereLanes::setup per lane: the same
+  // squared length, the same tests (valid_line), 1/a. A mask of 0 is folded into the interval
+  // test: such a ray's end is read as NaN, which fails tmin < tmax.
   template <class Rays>
   SPHRAY_FORCE_INLINE static Group gather(const Rays& rays, std::size_t count) {
-    alignas(64) float ox[kWidth], oy[kWidth], oz[kWidth], dx[kWidth], dy[kWidth], dz[kWidth];
-    alignas(64) float a[kWidth], inv_a[kWidth], tmin[kWidth], end[kWidth];
-    alignas(64) std::uint32_t masks[kWidth];
-    for (std::size_t k = 0; k < kWidth; ++k) {
-      typename Lanes::RayScalars sc{3.0f, 1.0f / 3.0f, 0.0f};
-      Ray ray{{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}, 0.0f, -__builtin_inff(), 0u};
-      if (k < count) {
-        const Ray r = rays[k];
-        if (Lanes::scalars(r, sc)) ray = r;
-      }
-      ox[k] = ray.origin.x, oy[k] = ray.origin.y, oz[k] = ray.origin.z;
-      dx[k] = ray.dir.x, dy[k] = ray.dir.y, dz[k] = ray.dir.z;
-      a[k] = sc.a, inv_a[k] = sc.inv_a, tmin[k] = ray.tmin, end[k] = ray.tmax;
-      masks[k] = ray.mask;
+    alignas(64) float ox[kWidth] = {}, oy[kWidth] = {}, oz[kWidth] = {};
+    alignas(64) float dx[kWidth] = {}, dy[kWidth] = {}, dz[kWidth] = {};
+    alignas(64) float tmin[kWidth] = {}, tmax[kWidth] = {}, end[kWidth] = {};
+    alignas(64) std::uint32_t masks[kWidth] = {};
+    for (std::size_t k = 0; k < count; ++k) {
+      const Ray r = rays[k];
+      ox[k] = r.origin.x, oy[k] = r.origin.y, oz[k] = r.origin.z;
+      dx[k] = r.dir.x, dy[k] = r.dir.y, dz[k] = r.dir.z;
+      tmin[k] = r.tmin, tmax[k] = r.tmax, masks[k] = r.mask;
+      end[k] = r.mask != 0 ? r.tmax : __builtin_nanf("");
     }
     const auto load = [](const float* x) { return Floats::load_aligned(x); };
-    return {{load(ox), load(oy), load(oz), load(dx), load(dy), load(dz), Floats(0.0f), Floats(0.0f),
-             Floats(0.0f), load(a), load(inv_a), load(tmin), 0.0f, 0u},
-            load(end),
+    const Floats d[3] = {load(dx), load(dy), load(dz)};
+    const Floats a = Lanes::squared_length(d[0], d[1], d[2]), lo = load(tmin);
+    const Floats o[3] = {load(ox), load(oy), load(oz)}, hi = load(end);
+    const Mask ok = Lanes::valid_line(o[0], o[1], o[2], d[0], d[1], d[2], lo, hi, a);
+    const auto valid = [&ok](const Floats& x, float dummy) {
+      return xsimd::select(ok, x, Floats(dummy));
+    };
+    const Floats valid_a = valid(a, 3.0f);
+    return {{valid(o[0], 0.0f), valid(o[1], 0.0f), valid(o[2], 0.0f), valid(d[0], 1.0f),
+             valid(d[1], 1.0f), valid(d[2], 1.0f), Floats(0.0f), Floats(0.0f), Floats(0.0f),
+             valid_a, Floats(1.0f) / valid_a, valid(lo, 0.0f), 0.0f, 0u},
+            valid(hi, -__builtin_inff()),
+            load(tmax),
             Uints::load_aligned(masks)};
   }
 
@@ -131,12 +141,14 @@ struct RayLanes {
         closest<true>(v, g, best_t, best_id);
       else
         closest<false>(v, g, best_t, best_id);
+      // A lane found a sphere iff its best t went below its end; else it answers its tmax.
+      const Floats answer = xsimd::select(best_t < g.end, best_t, g.tmax);
       alignas(64) float t[kWidth];
       alignas(64) std::uint32_t id[kWidth];
-      best_t.store_aligned(t);
+      answer.store_aligned(t);
       xsimd::bitwise_cast<Uints>(best_id).store_aligned(id);
       for (std::size_t k = 0; k < count; ++k)
-        hits[first + k] = id[k] == kNoHit ? Hit{rays[first + k].tmax, kNoHit} : Hit{t[k], id[k]};
+        hits[first + k] = Hit{t[k], id[k]};
     }
   }
 

@@ -50,44 +50,45 @@ struct SphereLanes {
   };
 
   static bool finite(float x) { return __builtin_isfinite(x); }
+  static Mask finite(const Floats& x) { return xsimd::abs(x) < Floats(__builtin_inff()); }
 
-  // What setup() derives from one ray's direction, before broadcasting it: a = |d|^2, 1/a and
-  // 1/|d|. The rays-across stream (brute/ray_lanes.hpp) puts these of kWidth rays side by side.
-  struct RayScalars {
-    float a, inv_a, inv_length;
-  };
-
-  // False for the rays the contract says miss everything. a = |d|^2 must be a normal, finite
-  // float: 1/a is then finite too.
-  SPHRAY_FORCE_INLINE static bool scalars(const Ray& ray, RayScalars& sc) {
-    const Vec3& o = ray.origin;
-    const Vec3& d = ray.dir;
-    const float a = d.x * d.x + d.y * d.y + d.z * d.z;
-    const bool ok = finite(o.x) && finite(o.y) && finite(o.z) && finite(d.x) && finite(d.y) &&
-                    finite(d.z) && ray.tmin < ray.tmax && a >= 0x1p-126f && finite(a) &&
-                    ray.mask != 0;
-    if (!ok) return false;
-    sc = RayScalars{a, 1.0f / a, 1.0f / __builtin_sqrtf(a)};
-    return true;
+  // a = |d|^2, for one ray (T = float) or one per lane (T = Floats), in one order of the sums.
+  template <class T>
+  SPHRAY_FORCE_INLINE static T squared_length(const T& dx, const T& dy, const T& dz) {
+    return dx * dx + dy * dy + dz * dz;
   }
 
-  // False for the rays the contract says miss everything (scalars()).
+  // The contract's tests of a ray but its mask's, given a = |d|^2, for one ray (T = float: a
+  // truth value) or one per lane (T = Floats: a Mask; brute/ray_lanes.hpp): finite origin and
+  // direction, tmin < tmax, and a a normal, finite float, so that 1/a is finite too.
+  template <class T>
+  SPHRAY_FORCE_INLINE static auto valid_line(const T& ox, const T& oy, const T& oz, const T& dx,
+                                             const T& dy, const T& dz, const T& tmin, const T& tmax,
+                                             const T& a) {
+    return finite(ox) & finite(oy) & finite(oz) & finite(dx) & finite(dy) & finite(dz) &
+           (tmin < tmax) & (a >= T(0x1p-126f)) & finite(a);
+  }
+
+  // False for the rays the contract says miss everything (valid_line, and a mask of 0).
   SPHRAY_FORCE_INLINE static bool setup(const Ray& ray, RaySetup& s) {
-    RayScalars sc;
-    if (!scalars(ray, sc)) return false;
     const Vec3& o = ray.origin;
     const Vec3& d = ray.dir;
+    const float a = squared_length(d.x, d.y, d.z);
+    const bool ok =
+        valid_line(o.x, o.y, o.z, d.x, d.y, d.z, ray.tmin, ray.tmax, a) && ray.mask != 0;
+    if (!ok) return false;
+    const float inv_length = 1.0f / __builtin_sqrtf(a);
     s = RaySetup{Floats(o.x),
                  Floats(o.y),
                  Floats(o.z),
                  Floats(d.x),
                  Floats(d.y),
                  Floats(d.z),
-                 Floats(d.x * sc.inv_length),
-                 Floats(d.y * sc.inv_length),
-                 Floats(d.z * sc.inv_length),
-                 Floats(sc.a),
-                 Floats(sc.inv_a),
+                 Floats(d.x * inv_length),
+                 Floats(d.y * inv_length),
+                 Floats(d.z * inv_length),
+                 Floats(a),
+                 Floats(1.0f / a),
                  Floats(ray.tmin),
                  ray.tmax,
                  ray.mask};
