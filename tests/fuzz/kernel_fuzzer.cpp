@@ -239,9 +239,10 @@ Truth truth(const Ray& ray, float cx, float cy, float cz, float r) {
   // larger of |g| and r, not the size of the coordinates.
   const LD scale = std::max(g, rr);
   constexpr LD kBig = LD{std::numeric_limits<float>::max()} / 1024, kSmall = 0x1p-100L;
+  // The formula's intermediates are of the sizes scale^2 (disc, c), scale |d| (b, q) and
+  // scale / |d| (k, the roots); it forms no |d|^2 scale^2 (q = b + sign(b) |d| sqrt(disc)).
   t.resolvable = scale * scale < kBig && scale * len_d < kBig && scale / len_d < kBig &&
-                 a * scale * scale < kBig && a * scale * scale > kSmall && scale * scale > kSmall &&
-                 scale * len_d > kSmall && scale / len_d > kSmall;
+                 scale * scale > kSmall && scale * len_d > kSmall && scale / len_d > kSmall;
   if (!t.resolvable) return t;
   const LD disc_err = kSafety * kEps * scale * (rr + dist + scale * 0x1p-20L);
   t.disc_sure = std::fabs(disc) > disc_err;

@@ -50,8 +50,8 @@ struct RayLanes {
   };
 
   // The rays' fields side by side, then the set-up of SphereLanes::setup per lane: the same
-  // squared length, the same tests (valid_line), 1/a. A mask of 0 is folded into the interval
-  // test: such a ray's end is read as NaN, which fails tmin < tmax.
+  // squared length a, the same tests (valid_line), |d| = sqrt(a) and 1/a. A mask of 0 is folded
+  // into the interval test: such a ray's end is read as NaN, which fails tmin < tmax.
   template <class Rays>
   SPHRAY_FORCE_INLINE static Group gather(const Rays& rays, std::size_t count) {
     alignas(64) float ox[kWidth] = {}, oy[kWidth] = {}, oz[kWidth] = {};
@@ -76,7 +76,7 @@ struct RayLanes {
     const Floats valid_a = valid(a, 3.0f);
     return {{valid(o[0], 0.0f), valid(o[1], 0.0f), valid(o[2], 0.0f), valid(d[0], 1.0f),
              valid(d[1], 1.0f), valid(d[2], 1.0f), Floats(0.0f), Floats(0.0f), Floats(0.0f),
-             valid_a, Floats(1.0f) / valid_a, valid(lo, 0.0f), 0.0f, 0u},
+             xsimd::sqrt(valid_a), Floats(1.0f) / valid_a, valid(lo, 0.0f), 0.0f, 0u},
             valid(hi, -__builtin_inff()),
             load(tmax),
             Uints::load_aligned(masks)};

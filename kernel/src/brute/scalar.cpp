@@ -47,7 +47,7 @@ std::optional<Roots> sphere_roots(Vec3 center, float radius, const Ray& ray) {
   const float disc = radius * radius - (v.x * v.x + (v.y * v.y + v.z * v.z));
   if (!(disc >= 0.0f)) return std::nullopt;
   const float c = k * b - disc;  // |g|^2 - r^2, consistent with disc
-  const float q = b + std::copysign(std::sqrt(a * disc), b);
+  const float q = b + std::copysign(std::sqrt(a) * std::sqrt(disc), b);
   const float t0 = c / q;
   const float t1 = q * inv_a;
   // t0 is NaN only for 0/0 (origin on the sphere, tangent); both roots are then t1.

@@ -38,8 +38,8 @@ struct SphereLanes {
   // What one ray contributes to every batch, computed once per ray.
   struct RaySetup {
     Floats ox, oy, oz, dx, dy, dz;
-    Floats ux, uy, uz;  // dir / |dir|, for may_hit only
-    Floats a, inv_a, tmin;
+    Floats ux, uy, uz;           // dir / |dir|, for may_hit only
+    Floats length, inv_a, tmin;  // |dir| = sqrt(a), and 1/a with a = |dir|^2
     float tmax;
     std::uint32_t mask;
   };
@@ -77,7 +77,8 @@ struct SphereLanes {
     const bool ok =
         valid_line(o.x, o.y, o.z, d.x, d.y, d.z, ray.tmin, ray.tmax, a) && ray.mask != 0;
     if (!ok) return false;
-    const float inv_length = 1.0f / __builtin_sqrtf(a);
+    const float length = __builtin_sqrtf(a);
+    const float inv_length = 1.0f / length;
     s = RaySetup{Floats(o.x),
                  Floats(o.y),
                  Floats(o.z),
@@ -87,7 +88,7 @@ struct SphereLanes {
                  Floats(d.x * inv_length),
                  Floats(d.y * inv_length),
                  Floats(d.z * inv_length),
-                 Floats(a),
+                 Floats(length),
                  Floats(1.0f / a),
                  Floats(ray.tmin),
                  ray.tmax,
@@ -167,7 +168,11 @@ struct SphereLanes {
   // Intersection", Ray Tracing Gems ch. 7): with g = centre - origin (= -f), b' = g.d and
   // k = b'/a, the discriminant is taken in its perpendicular form disc = r^2 - |k d - g|^2,
   // which does not lose the small difference b'^2 - a c to cancellation, and the roots as
-  // c/q and q/a with q = b' + sign(b') sqrt(a disc), which never subtracts nearly equal values.
+  // c/q and q/a with q = b' + sign(b') sqrt(a) sqrt(disc), which never subtracts nearly equal
+  // values. sqrt(a) sqrt(disc), not sqrt(a disc): the product a disc overflows float for long
+  // directions and large spheres (|dir| = 1e18, r = 1e10), and underflows for short directions
+  // and tiny spheres, where q = |dir| sqrt(disc) itself is an ordinary float; sqrt(a) is taken
+  // once per ray, so a lane still takes one square root.
   //
   // c is not |g|^2 - r^2 but k b' - disc, its value in exact arithmetic, taken from the disc
   // just computed: the roots are then k -+ sqrt(disc/a) up to a few roundings, two points of
@@ -206,7 +211,7 @@ struct SphereLanes {
     if (kSkip == Skip::kAfterDisc && xsimd::none(live)) return false;
     live = live & (sp.r >= Floats(kMinRadius));
     const Floats c = k * b - disc;
-    const Floats q = b + with_sign_of(xsimd::sqrt(s.a * disc), b);
+    const Floats q = b + with_sign_of(s.length * xsimd::sqrt(disc), b);
     const Floats t0 = c / q, t1 = q * s.inv_a;
     // t0 is NaN only for 0/0 (origin on the sphere, tangent), and then both roots are t1.
     using O = Ordered<A>;

@@ -285,12 +285,13 @@ struct LinePacket {
     for (std::size_t r = 0; r < kRays; r += kWidth) {
       const Floats dx = Floats::load_aligned(p.dx + r), dy = Floats::load_aligned(p.dy + r),
                    dz = Floats::load_aligned(p.dz + r);
-      // SphereLanes::setup's a and its checks (prepare() checked finiteness).
+      // SphereLanes::setup's a = |d|^2, |d| and 1/a, and its checks (prepare() checked
+      // finiteness).
       const Floats len2 = dx * dx + dy * dy + dz * dz;
       const auto ok = (Floats::load_aligned(p.tmin + r) < Floats::load_aligned(p.tmax + r)) &
                       (len2 >= Floats(0x1p-126f)) & (len2 < Floats(__builtin_inff()));
       valid &= ~(static_cast<std::uint64_t>(LaneReduce<A>::bits(!ok)) << r);
-      len2.store_aligned(p.a + r);
+      xsimd::sqrt(len2).store_aligned(p.length + r);
       (Floats(1.0f) / len2).store_aligned(p.inv_a + r);
       for (unsigned axis = 0; axis < 3; ++axis) {
         (Floats(1.0f) / Floats::load_aligned(d[axis] + r)).store_aligned(inv[axis] + r);
@@ -328,7 +329,7 @@ struct LinePacket {
   // Moves the ray in slot from of p and g to slot to.
   static void move(typename Packet::Rays& p, Slid& g, std::size_t from, std::size_t to) {
     for (float* v : {p.ox, p.oy, p.oz, p.dx, p.dy, p.dz, p.inv_dx, p.inv_dy, p.inv_dz, p.tmin,
-                     p.tmax, p.a, p.inv_a, g.q[0], g.q[1], g.q[2], g.shift})
+                     p.tmax, p.length, p.inv_a, g.q[0], g.q[1], g.q[2], g.shift})
       v[to] = v[from];
     p.mask[to] = p.mask[from];
   }

@@ -62,7 +62,7 @@ struct PacketWalk {
     // free, -inf once it is blocked): a box entered beyond it is skipped.
     alignas(64) float best[kRays];
     std::uint32_t best_id[kRays];
-    alignas(64) float dx[kRays], dy[kRays], dz[kRays], a[kRays], inv_a[kRays], tmax[kRays];
+    alignas(64) float dx[kRays], dy[kRays], dz[kRays], length[kRays], inv_a[kRays], tmax[kRays];
     alignas(64) std::uint32_t mask[kRays];
     std::size_t count;
 
@@ -70,7 +70,7 @@ struct PacketWalk {
     // are read only by the brute-force pre-test, which leaves skip.
     SPHRAY_FORCE_INLINE typename Batch::RaySetup setup(std::size_t r) const {
       return {Floats(ox[r]),    Floats(oy[r]),   Floats(oz[r]), Floats(dx[r]), Floats(dy[r]),
-              Floats(dz[r]),    Floats(0.0f),    Floats(0.0f),  Floats(0.0f),  Floats(a[r]),
+              Floats(dz[r]),    Floats(0.0f),    Floats(0.0f),  Floats(0.0f),  Floats(length[r]),
               Floats(inv_a[r]), Floats(tmin[r]), tmax[r],       mask[r]};
     }
 
@@ -87,7 +87,7 @@ struct PacketWalk {
               Floats(0.0f),
               Floats(0.0f),
               Floats(0.0f),
-              Floats::load_aligned(a + r),
+              Floats::load_aligned(length + r),
               Floats::load_aligned(inv_a + r),
               Floats::load_aligned(tmin + r),
               0.0f,
@@ -112,7 +112,7 @@ struct PacketWalk {
     p.dx[r] = ray.dir.x;
     p.dy[r] = ray.dir.y;
     p.dz[r] = ray.dir.z;
-    p.a[r] = s.a.get(0);
+    p.length[r] = s.length.get(0);
     p.inv_a[r] = s.inv_a.get(0);
     p.tmax[r] = ray.tmax;
     p.mask[r] = ray.mask;
@@ -127,7 +127,7 @@ struct PacketWalk {
       p.best[r] = -__builtin_inff();
       // What the leaf test across rays computes in these lanes, and then ignores.
       p.dx[r] = p.dy[r] = p.dz[r] = 1.0f;
-      p.a[r] = 3.0f;
+      p.length[r] = __builtin_sqrtf(3.0f);
       p.inv_a[r] = 1.0f / 3.0f;
       p.tmax[r] = 0.0f;
       p.mask[r] = 0u;
