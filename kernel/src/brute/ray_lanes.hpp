@@ -6,10 +6,10 @@
 // into its own namespace (simd/isa_namespace.hpp).
 //
 // The same answers bit for bit as one ray at a time (BruteForce<A>, the scalar reference): each
-// ray is set up by SphereLanes::scalars, as SphereLanes::setup does, and each (ray, sphere) pair
-// takes in its lane the very operations of SphereLanes::roots; the masks' test is an and, which
-// commutes. Spheres come in id order and a lane keeps a later one only on a strictly smaller t,
-// so ties go to the lower id.
+// lane's ray is set up with the steps of SphereLanes::setup (gather), and each (ray, sphere)
+// pair takes in its lane the very operations of SphereLanes::roots; the masks' test is an and,
+// which commutes. Spheres come in id order and a lane keeps a later one only on a strictly smaller
+// t, so ties go to the lower id.
 #pragma once
 
 #include <cstddef>

@@ -198,11 +198,15 @@ struct QueryPlan {
   // one broadcast sphere at a time (brute/ray_lanes.hpp), instead of one ray against batches of
   // spheres: a batch of spheres is then mostly padding, and each ray pays its set-up and the
   // horizontal reduction for a handful of sphere tests. Rays across the lanes test every sphere
-  // for every ray, with no pre-test skipping batches far from the ray: up to kAcrossUpTo spheres
-  // it is the faster, measured with the dispatched stream against it on random scenes of 1 to
-  // 64 spheres, camera and random rays (docs/performance.md, "Rays across the lanes"). The
-  // widest instruction set takes such streams (query.cpp). Same bits either way.
-  static constexpr std::size_t kAcrossUpTo = 32;
+  // for every ray, with no pre-test skipping the spheres far from the ray, so one ray at a time
+  // wins again on larger views. Measured with `sphray bench` on random scenes of 1 to 64
+  // spheres, camera and random rays, the 16-wide rows against the dispatched one-ray kernel
+  // (docs/performance.md, "Rays across the lanes"): camera rays break even at kAcrossUpTo
+  // spheres, random rays a little beyond 64. The rule does not look at the stream's length
+  // (not measured: the renderer's streams are a tile's rays, hundreds at least; a stream
+  // shorter than a batch leaves lanes empty). The widest instruction set takes such streams
+  // (query.cpp): each width measured slower than the next wider one. Same bits either way.
+  static constexpr std::size_t kAcrossUpTo = 48;
   static bool rays_across(std::size_t sphere_count) { return sphere_count <= kAcrossUpTo; }
 };
 
