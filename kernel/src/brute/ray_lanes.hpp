@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include <xsimd/xsimd.hpp>
 
@@ -49,37 +50,75 @@ struct RayLanes {
     Mask open() const { return end > Floats(-__builtin_inff()); }
   };
 
-  // The rays' fields side by side, then the set-up of SphereLanes::setup per lane: the same
-  // squared length a, the same tests (valid_line), |d| = sqrt(a) and 1/a. A mask of 0 is folded
-  // into the interval test: such a ray's end is read as NaN, which fails tmin < tmax.
+  // The fields of up to kWidth rays, one per lane; lanes past the stream's end hold zeros.
+  struct Fields {
+    Floats ox, oy, oz, dx, dy, dz, tmin, tmax;
+    Uints masks;
+  };
+
+  // A whole batch of rays of an array: each field gathered across the rays' structs, up to 8
+  // lanes (gather instructions, or loads into lanes where there are none). Copied lane by lane
+  // otherwise: AVX-512's 16-lane gathers measured several times slower than the copy on AMD Zen
+  // 4 (docs/performance.md, "Rays across the lanes"), the 8-lane ones faster.
+  static constexpr bool kGathers = kWidth <= 8;
+  static Fields fields(const Ray* rays, std::size_t count) {
+    if (!kGathers || count < kWidth) return copied(rays, count);
+    using Ints = xsimd::batch<std::int32_t, A>;
+    constexpr std::int32_t kStride = sizeof(Ray) / sizeof(float);
+    static_assert(sizeof(Ray) == kStride * sizeof(float), "a Ray is floats and a mask");
+    const Ints at = xsimd::bitwise_cast<Ints>(LaneReduce<A>::lane_index()) * Ints(kStride);
+    const auto field = [&](const auto& member) {
+      using Field = std::remove_cvref_t<decltype(member)>;
+      return xsimd::batch<Field, A>::gather(&member, at);
+    };
+    const Ray& r = rays[0];
+    return {field(r.origin.x), field(r.origin.y), field(r.origin.z), field(r.dir.x), field(r.dir.y),
+            field(r.dir.z),    field(r.tmin),     field(r.tmax),     field(r.mask)};
+  }
+  // Rays as arrays per quantity, and the last rays of a stream: copied lane by lane.
   template <class Rays>
-  SPHRAY_FORCE_INLINE static Group gather(const Rays& rays, std::size_t count) {
+  static Fields fields(const Rays& rays, std::size_t count) {
+    return copied(rays, count);
+  }
+  template <class Rays>
+  static Fields copied(const Rays& rays, std::size_t count) {
     alignas(64) float ox[kWidth] = {}, oy[kWidth] = {}, oz[kWidth] = {};
     alignas(64) float dx[kWidth] = {}, dy[kWidth] = {}, dz[kWidth] = {};
-    alignas(64) float tmin[kWidth] = {}, tmax[kWidth] = {}, end[kWidth] = {};
+    alignas(64) float tmin[kWidth] = {}, tmax[kWidth] = {};
     alignas(64) std::uint32_t masks[kWidth] = {};
     for (std::size_t k = 0; k < count; ++k) {
       const Ray r = rays[k];
       ox[k] = r.origin.x, oy[k] = r.origin.y, oz[k] = r.origin.z;
       dx[k] = r.dir.x, dy[k] = r.dir.y, dz[k] = r.dir.z;
       tmin[k] = r.tmin, tmax[k] = r.tmax, masks[k] = r.mask;
-      end[k] = r.mask != 0 ? r.tmax : __builtin_nanf("");
     }
     const auto load = [](const float* x) { return Floats::load_aligned(x); };
-    const Floats d[3] = {load(dx), load(dy), load(dz)};
-    const Floats a = Lanes::squared_length(d[0], d[1], d[2]), lo = load(tmin);
-    const Floats o[3] = {load(ox), load(oy), load(oz)}, hi = load(end);
-    const Mask ok = Lanes::valid_line(o[0], o[1], o[2], d[0], d[1], d[2], lo, hi, a);
+    return {load(ox),   load(oy),   load(oz),
+            load(dx),   load(dy),   load(dz),
+            load(tmin), load(tmax), Uints::load_aligned(masks)};
+  }
+
+  // The set-up of SphereLanes::setup per lane: the same squared length a, the same tests
+  // (valid_line), |d| = sqrt(a) and 1/a. A mask of 0 is folded into the interval test: such a
+  // ray's end is read as NaN, which fails tmin < tmax.
+  template <class Rays>
+  SPHRAY_FORCE_INLINE static Group gather(const Rays& rays, std::size_t count) {
+    const Fields f = fields(rays, count);
+    const Uints nan_bits(0x7fc00000u);
+    const Floats hi = xsimd::bitwise_cast<Floats>(
+        xsimd::select(f.masks != Uints(0u), xsimd::bitwise_cast<Uints>(f.tmax), nan_bits));
+    const Floats a = Lanes::squared_length(f.dx, f.dy, f.dz);
+    const Mask ok = Lanes::valid_line(f.ox, f.oy, f.oz, f.dx, f.dy, f.dz, f.tmin, hi, a);
     const auto valid = [&ok](const Floats& x, float dummy) {
       return xsimd::select(ok, x, Floats(dummy));
     };
     const Floats valid_a = valid(a, 3.0f);
-    return {{valid(o[0], 0.0f), valid(o[1], 0.0f), valid(o[2], 0.0f), valid(d[0], 1.0f),
-             valid(d[1], 1.0f), valid(d[2], 1.0f), Floats(0.0f), Floats(0.0f), Floats(0.0f),
-             xsimd::sqrt(valid_a), Floats(1.0f) / valid_a, valid(lo, 0.0f), 0.0f, 0u},
+    return {{valid(f.ox, 0.0f), valid(f.oy, 0.0f), valid(f.oz, 0.0f), valid(f.dx, 1.0f),
+             valid(f.dy, 1.0f), valid(f.dz, 1.0f), Floats(0.0f), Floats(0.0f), Floats(0.0f),
+             xsimd::sqrt(valid_a), Floats(1.0f) / valid_a, valid(f.tmin, 0.0f), 0.0f, 0u},
             valid(hi, -__builtin_inff()),
-            load(tmax),
-            Uints::load_aligned(masks)};
+            f.tmax,
+            f.masks};
   }
 
   // Sphere j of v in every lane, made never-hit (radius 0) in the lanes whose ray cannot see it.
