@@ -14,7 +14,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <type_traits>
 
 #include <xsimd/xsimd.hpp>
 
@@ -23,6 +22,7 @@
 #include "simd/force_inline.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
+#include "simd/stride_gather.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
 
@@ -56,21 +56,13 @@ struct RayLanes {
     Uints masks;
   };
 
-  // A whole batch of rays of an array: each field gathered across the rays' structs, up to 8
-  // lanes (gather instructions, or loads into lanes where there are none). Copied lane by lane
-  // otherwise: AVX-512's 16-lane gathers measured several times slower than the copy on AMD Zen
-  // 4 (docs/performance.md, "Rays across the lanes"), the 8-lane ones faster.
-  static constexpr bool kGathers = kWidth <= 8;
+  // A whole batch of rays of an array: each field gathered across the rays' structs
+  // (simd/stride_gather.hpp), which measured faster than copying them ray by ray.
   static Fields fields(const Ray* rays, std::size_t count) {
-    if (!kGathers || count < kWidth) return copied(rays, count);
-    using Ints = xsimd::batch<std::int32_t, A>;
+    if (count < kWidth) return copied(rays, count);
     constexpr std::int32_t kStride = sizeof(Ray) / sizeof(float);
     static_assert(sizeof(Ray) == kStride * sizeof(float), "a Ray is floats and a mask");
-    const Ints at = xsimd::bitwise_cast<Ints>(LaneReduce<A>::lane_index()) * Ints(kStride);
-    const auto field = [&](const auto& member) {
-      using Field = std::remove_cvref_t<decltype(member)>;
-      return xsimd::batch<Field, A>::gather(&member, at);
-    };
+    const auto field = [](const auto& member) { return StrideGather<A>::load(&member, kStride); };
     const Ray& r = rays[0];
     return {field(r.origin.x), field(r.origin.y), field(r.origin.z), field(r.dir.x), field(r.dir.y),
             field(r.dir.z),    field(r.tmin),     field(r.tmax),     field(r.mask)};
