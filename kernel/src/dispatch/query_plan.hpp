@@ -205,8 +205,8 @@ struct QueryPlan {
   // spheres, random rays a little beyond 64. The rule does not look at the stream's length
   // (not measured: the renderer's streams are a tile's rays, hundreds at least; a stream
   // shorter than a batch leaves lanes empty). The widest instruction set takes such streams
-  // (query.cpp): it measured the fastest but on camera rays against 1 to 4 spheres, where the
-  // 8-wide rows led by a few percent. Same bits either way.
+  // (query.cpp): it measured the fastest but against 1 or 2 spheres, where the 8-wide rows led
+  // by a few percent on one of the two kinds of rays. Same bits either way.
   static constexpr std::size_t kAcrossUpTo = 48;
   static bool rays_across(std::size_t sphere_count) { return sphere_count <= kAcrossUpTo; }
 };
