@@ -6,7 +6,7 @@
 // into its own namespace (simd/isa_namespace.hpp).
 //
 // The same answers bit for bit as one ray at a time (BruteForce<A>, the scalar reference): each
-// lane's ray is set up with the steps of SphereLanes::setup (gather), and each (ray, sphere)
+// lane's ray is set up with the steps of SphereLanes::setup (set_up), and each (ray, sphere)
 // pair takes in its lane the very operations of SphereLanes::roots; the masks' test is an and,
 // which commutes. Spheres come in id order and a lane keeps a later one only on a strictly smaller
 // t, so ties go to the lower id.
@@ -94,7 +94,7 @@ struct RayLanes {
   // (valid_line), |d| = sqrt(a) and 1/a. A mask of 0 is folded into the interval test: such a
   // ray's end is read as NaN, which fails tmin < tmax.
   template <class Rays>
-  SPHRAY_FORCE_INLINE static Group gather(const Rays& rays, std::size_t count) {
+  SPHRAY_FORCE_INLINE static Group set_up(const Rays& rays, std::size_t count) {
     const Fields f = fields(rays, count);
     const Uints nan_bits(0x7fc00000u);
     const Floats hi = xsimd::bitwise_cast<Floats>(
@@ -166,7 +166,7 @@ struct RayLanes {
     v = BruteForce<A>::clamp(v);
     for (std::size_t first = 0; first < n; first += kWidth) {
       const std::size_t count = n - first < kWidth ? n - first : kWidth;
-      const Group g = gather(rays + first, count);
+      const Group g = set_up(rays + first, count);
       Floats best_t, best_id;
       if (v.mask != nullptr)
         closest<true>(v, g, best_t, best_id);
@@ -188,7 +188,7 @@ struct RayLanes {
     v = BruteForce<A>::clamp(v);
     for (std::size_t first = 0; first < n; first += kWidth) {
       const std::size_t count = n - first < kWidth ? n - first : kWidth;
-      const Group g = gather(rays + first, count);
+      const Group g = set_up(rays + first, count);
       const Mask hit = v.mask != nullptr
                            ? any_hit<true>(v, g.rays, g.end, g.masks, 0, v.count, g.open())
                            : any_hit<false>(v, g.rays, g.end, g.masks, 0, v.count, g.open());
