@@ -119,11 +119,12 @@ def render(
     mode: Literal["normals", "flat", "depth", "id", "shaded", "path"] = "normals",
     width: Optional[int] = None,
     height: Optional[int] = None,
-    spp: int = 1,
+    spp: int = 4,
     seed: int = 0,
     threads: int = 0,
     accel: Literal["auto", "bvh", "brute"] = "auto",
     max_depth: int = 50,
+    time_limit: float = 0.0,
 ) -> npt.NDArray[np.uint8]:
     """A preset or JSON scene rendered by the renderer: uint8 (height, width, 3)."""
 

@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "arrays.hpp"
+#include "interruption.hpp"
 #include "ray_batches.hpp"
 #include "sphray/render/camera.hpp"
 #include "sphray/render/renderer.hpp"
@@ -52,6 +53,7 @@ render::RenderOptions render_options(const RenderRequest& r, const render::Scene
   options.seed = r.seed;
   options.threads = r.threads;
   options.max_depth = r.max_depth;
+  options.time_limit = r.time_limit;
   return options;
 }
 
@@ -112,7 +114,11 @@ py::array render(const RenderRequest& request) {
   {
     py::gil_scoped_release release;
     try {
-      image = render::render(scene, options);
+      // The renderer reports each finished tile: there the calling thread answers a Ctrl-C.
+      Interruption interruption;
+      image = render::render(
+          scene, options,
+          [&](std::size_t, std::size_t, const render::RayCounts&) { interruption.check(); });
     } catch (const render::SceneError& e) {
       throw std::invalid_argument(e.what());  // ValueError, raised once the GIL is back
     }

@@ -21,15 +21,17 @@ struct RenderRequest {
   std::string scene;  // a preset name or a JSON scene file
   std::string mode = "normals";
   std::optional<int> width, height;  // unset: the scene's own size (one side: its aspect)
-  int spp = 1;
+  int spp = 4;                       // the command's defaults
   std::uint64_t seed = 0;
   int threads = 0;
   std::string accel = "auto";
   int max_depth = 50;
+  double time_limit = 0.0;  // path mode: seconds after which no sample is started (0: none)
 };
 
 /// The image sphray render would write, as uint8 (height, width, 3). Throws ValueError for an
-/// unknown scene, mode or accel, or a size the renderer refuses.
+/// unknown scene, mode or accel, or a size the renderer refuses; Interrupted when a signal
+/// handler raised during the render.
 py::array render(const RenderRequest& request);
 
 }  // namespace sphray::python

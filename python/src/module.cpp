@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "camera.hpp"
+#include "interruption.hpp"
 #include "scene.hpp"
 #include "sphray/sphray.hpp"
 
@@ -169,16 +170,17 @@ directions are unit vectors, so intersect() returns distances. The camera is the
 view direction, a value is not finite, or the size is not positive.)doc";
 
 constexpr const char* kRenderDoc =
-    R"doc(render(scene="rtiow-final", mode="normals", width=None, height=None, spp=1, seed=0,
-       threads=0, accel="auto", max_depth=50) -> uint8 array (height, width, 3)
+    R"doc(render(scene="rtiow-final", mode="normals", width=None, height=None, spp=4, seed=0,
+       threads=0, accel="auto", max_depth=50, time_limit=0) -> uint8 array (height, width, 3)
 
 Renders one of the renderer's scenes to an image.
 
 scene: a preset ("single", "three", "rtiow-final", "random:N") or a JSON scene file.
 mode: "normals", "flat", "depth", "id", "shaded" or "path". width, height: the scene's own
 size when neither is given, its aspect when one is. spp: samples per pixel; threads: 0 for
-all cores. The same image as `sphray render` with the same options. Raises ValueError for
-an unknown scene or mode or a size out of range.)doc";
+all cores; time_limit: path mode, seconds after which no sample is started (0: none). The
+same image as `sphray render` with the same options, and the same defaults. Raises ValueError
+for an unknown scene or mode or a value out of range; Ctrl-C stops it with KeyboardInterrupt.)doc";
 
 // Whether self, a sphray.Scene (or an instance of a Python subclass), holds its C++ Scene yet.
 bool constructed(py::handle self) {
@@ -224,6 +226,14 @@ PYBIND11_MODULE(sphray, m) {
   m.doc() = kModuleDoc;
   m.attr("__version__") = sphray::kVersion;
   m.attr("NO_HIT") = py::int_(sphray::kNoHit);
+  // A call stopped by a signal (interruption.hpp) raises what the handler raised.
+  py::register_exception_translator([](std::exception_ptr thrown) {
+    try {
+      if (thrown) std::rethrow_exception(thrown);
+    } catch (const sphray::python::Interrupted&) {
+      if (!PyErr_Occurred()) PyErr_SetNone(PyExc_KeyboardInterrupt);
+    }
+  });
 
   py::class_<Scene> scene_class(m, "Scene", kSceneDoc);
   scene_class
@@ -295,15 +305,16 @@ PYBIND11_MODULE(sphray, m) {
       "render",
       [](const py::object& scene, const std::string& mode, std::optional<int> width,
          std::optional<int> height, int spp, std::uint64_t seed, int threads,
-         const std::string& accel, int max_depth) {
+         const std::string& accel, int max_depth, double time_limit) {
         // A preset name, or a scene file as str or pathlib.Path (os.fspath takes both).
         const auto name = py::module_::import("os").attr("fspath")(scene).cast<std::string>();
-        return sphray::python::render(
-            RenderRequest{name, mode, width, height, spp, seed, threads, accel, max_depth});
+        return sphray::python::render(RenderRequest{name, mode, width, height, spp, seed, threads,
+                                                    accel, max_depth, time_limit});
       },
       py::arg("scene") = "rtiow-final", py::arg("mode") = "normals", py::arg("width") = py::none(),
-      py::arg("height") = py::none(), py::arg("spp") = 1, py::arg("seed") = 0,
-      py::arg("threads") = 0, py::arg("accel") = "auto", py::arg("max_depth") = 50, kRenderDoc);
+      py::arg("height") = py::none(), py::arg("spp") = RenderRequest{}.spp, py::arg("seed") = 0,
+      py::arg("threads") = 0, py::arg("accel") = "auto", py::arg("max_depth") = 50,
+      py::arg("time_limit") = 0.0, kRenderDoc);
 
   m.def(
       "active_isa", [] { return std::string(sphray::isa_name(sphray::active_isa())); },

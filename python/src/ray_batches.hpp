@@ -1,6 +1,7 @@
 // Tracing a batch of rays from numpy: the rays assembled chunk by chunk from the caller's
 // arrays (never all at once), the chunks spread over oneTBB's workers when the batch is large
-// enough to pay for it. Runs without the GIL: it touches no Python object.
+// enough to pay for it. Runs without the GIL: it touches no Python object, but between chunks
+// the calling thread lets Python answer a Ctrl-C (interruption.hpp).
 #pragma once
 
 #include <tbb/blocked_range.h>
@@ -9,6 +10,7 @@
 #include <cstddef>
 
 #include "arrays.hpp"
+#include "interruption.hpp"
 #include "sphray/sphray.hpp"
 
 namespace sphray::python {
@@ -22,11 +24,14 @@ inline constexpr std::size_t kParallelFromRays = 4 * kChunkRays;
 
 /// Calls chunk(begin, end) over [0, count) in pieces of at most kChunkRays, in parallel for
 /// large counts. chunk must be safe to call from several threads at once on disjoint ranges.
+/// Throws Interrupted when a signal handler raised meanwhile (to be called without the GIL).
 template <typename Chunk>
 void for_each_chunk(std::size_t count, const Chunk& chunk) {
+  Interruption interruption;
   if (count < kParallelFromRays) {
     for (std::size_t begin = 0; begin < count; begin += kChunkRays) {
       chunk(begin, std::min(count, begin + kChunkRays));
+      interruption.check();
     }
     return;
   }
@@ -34,6 +39,7 @@ void for_each_chunk(std::size_t count, const Chunk& chunk) {
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t begin = r.begin(); begin < r.end(); begin += kChunkRays) {
                         chunk(begin, std::min(r.end(), begin + kChunkRays));
+                        interruption.check();
                       }
                     });
 }

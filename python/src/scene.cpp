@@ -138,8 +138,9 @@ void Scene::refit(const py::handle& centers, const py::handle& radii, const py::
   if (masks.is_none()) next.copy_masks_from(spheres_);
   std::unique_lock lock(mutex_, std::defer_lock);
   {
-    // Queries in flight hold the lock without the GIL and never ask for the GIL before they
-    // let it go, so waiting here without the GIL cannot deadlock.
+    // No thread waits for the lock while it holds the GIL: queries release the GIL before they
+    // take the lock (they may take the GIL back for a moment while they hold it, to answer a
+    // Ctrl-C), and so does this wait; neither can hold up the other for ever.
     py::gil_scoped_release release;
     lock.lock();
     if (bvh_) bvh_->refit(next.view());

@@ -23,7 +23,7 @@ def test_render_normals_of_the_single_preset():
     """The 'single' preset (a sphere of radius 0.5 at (0, 0, -1), the camera at the origin,
     vfov 90): hits coloured (n + 1) / 2, misses the book's white-to-blue sky."""
     w, h = 64, 36
-    image = sphray.render("single", mode="normals", width=w, height=h)
+    image = sphray.render("single", mode="normals", width=w, height=h, spp=1)
     assert image.shape == (h, w, 3) and image.dtype == np.uint8
     o, d = ref.pinhole_rays([0, 0, 0], [0, 0, -1], [0, 1, 0], 90.0, w, h)
     o, d = o.reshape(-1, 3), d.reshape(-1, 3)
@@ -47,7 +47,7 @@ def test_render_takes_a_scene_file_as_path(tmp_path):
     scene = tmp_path / "one.json"
     scene.write_text('{"camera": {"lookfrom": [0, 0, 0], "lookat": [0, 0, -1], "vfov": 90},'
                      ' "spheres": [{"center": [0, 0, -1], "radius": 0.5, "color": [1, 0, 0]}]}')
-    from_path = sphray.render(scene, mode="flat", width=32, height=18)
-    assert (from_path == sphray.render(str(scene), mode="flat", width=32, height=18)).all()
+    from_path = sphray.render(scene, mode="flat", width=32, height=18, spp=1)
+    assert (from_path == sphray.render(str(scene), mode="flat", width=32, height=18, spp=1)).all()
     # flat mode: the sphere red (255, 0, 0) in the middle, sky at the corners
     assert tuple(from_path[9, 16]) == (255, 0, 0) and tuple(from_path[0, 0]) != (255, 0, 0)
