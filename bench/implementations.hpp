@@ -49,8 +49,9 @@ struct Builder {
   std::function<std::function<Built()>(const SphereSoA& spheres)> prepare;
 };
 
-/// The scalar reference, each instruction set's kernel per ray and as a stream, the
-/// dispatched query per ray, and the dispatched stream on one and on all threads.
+/// The scalar reference, each instruction set's kernel per ray, as a stream and with the rays
+/// across its lanes, the dispatched query per ray, and the dispatched stream on one and on all
+/// threads.
 std::vector<Implementation> kernel_implementations();
 
 /// Traces shadow rays into blocked flags (blocked[i] for rays[i]).

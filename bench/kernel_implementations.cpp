@@ -28,6 +28,17 @@ Implementation isa_stream(const EntryTable& kernel) {
   return {std::string(isa_name(kernel.isa)) + "-stream", 1, true, kernel.width, prepare};
 }
 
+// A kernel's brute force with the rays across its lanes (a batch of rays per sphere), whatever
+// the scene's size, one thread: the view stream takes it for few spheres (QueryPlan::rays_across).
+Implementation isa_across(const EntryTable& kernel) {
+  auto prepare = [&kernel](const Workload& w) -> Trace {
+    return [&kernel, view = w.view()](std::span<const Ray> rays, std::span<Hit> hits) {
+      kernel.intersect_across(view, rays.data(), hits.data(), rays.size());
+    };
+  };
+  return {std::string(isa_name(kernel.isa)) + "-across", 1, true, 0, prepare};
+}
+
 // The dispatched stream query, the span split across threads by the caller.
 Implementation dispatched_stream(int threads) {
   auto prepare = [threads](const Workload& w) -> Trace {
@@ -50,6 +61,7 @@ std::vector<Implementation> kernel_implementations() {
     const EntryTable& kernel = *find_entries(isa);
     impls.push_back(per_ray(std::string(isa_name(isa)), kernel.intersect, kernel.width));
     impls.push_back(isa_stream(kernel));
+    impls.push_back(isa_across(kernel));
   }
   impls.push_back(per_ray("dispatch", static_cast<RayFn>(&intersect), 0));
   impls.push_back(dispatched_stream(1));

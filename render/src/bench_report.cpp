@@ -14,6 +14,8 @@ std::string mrays(double per_second) {
 
 // The call a user writes for a default row.
 std::string call(const Measured& m) {
+  if (m.brute_force && m.stream)
+    return "the stream call on the spheres, sphray::intersect(spheres, rays, hits)";
   if (m.brute_force) return "brute force, sphray::intersect(spheres, ray)";
   if (m.stream) return "the stream call on a tree, sphray::intersect(tree, rays, hits)";
   return "one ray at a time on a tree, sphray::intersect(tree, ray)";

@@ -22,7 +22,7 @@ struct Measured {
   std::string name;         // "avx512 stream"
   bool dispatched = false;  // what sphray's calls take by default (the rows marked *)
   bool brute_force = false;
-  bool stream = false;  // the tree's stream call; a tree row otherwise, unless brute force
+  bool stream = false;  // a stream call: on the tree, or on the spheres if brute force
   bool sphray = true;   // false for another library's row
   double median = 0, min = 0, max = 0;  // rays per second by wall time
 };

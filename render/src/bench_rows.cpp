@@ -31,6 +31,27 @@ Row brute_force(const EntryTable& kernel, bool dispatched) {
   return {std::string(isa_name(kernel.isa)) + " brute force", true, true, dispatched, prepare};
 }
 
+// An instruction set's brute force with the rays across its lanes, whatever the scene's size: the
+// stream on a view takes it for few spheres (the query plan's rule 9), these rows show where.
+Row rays_across(const EntryTable& kernel) {
+  auto prepare = [&kernel](SphereView spheres) -> Trace {
+    return [&kernel, spheres](std::span<const Ray> rays, std::span<Hit> hits) {
+      kernel.intersect_across(spheres, rays.data(), hits.data(), rays.size());
+    };
+  };
+  return {std::string(isa_name(kernel.isa)) + " rays across", true, true, false, prepare};
+}
+
+// The stream call on the spheres themselves, as the renderer makes it on small scenes.
+Row brute_force_stream() {
+  auto prepare = [](SphereView spheres) -> Trace {
+    return [spheres](std::span<const Ray> rays, std::span<Hit> hits) {
+      intersect(spheres, rays, hits);
+    };
+  };
+  return {"brute force stream", true, true, true, prepare};
+}
+
 // The tree and stream rows of an instruction set share one build: the tree row builds it, the
 // stream row takes it over, so that no more than one tree of a large scene is alive at a time.
 struct TreeCache {
@@ -85,6 +106,9 @@ std::vector<Row> sphray_rows(std::size_t sphere_count) {
   for (Isa isa : supported_isas())
     if (isa != Isa::scalar)
       rows.push_back(brute_force(*detail::find_entries(isa), isa == brute_isa));
+  for (Isa isa : supported_isas())
+    if (isa != Isa::scalar) rows.push_back(rays_across(*detail::find_entries(isa)));
+  rows.push_back(brute_force_stream());
   if (sphere_count > kBruteForceUpTo) {
     for (Row& row : rows)
       row.skipped = "brute force is timed up to " + std::to_string(kBruteForceUpTo) +

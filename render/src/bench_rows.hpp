@@ -35,7 +35,8 @@ struct Row {
 /// of magnitude, and a pass over a useful number of rays would take minutes.
 inline constexpr std::size_t kBruteForceUpTo = 4096;
 
-/// The scalar reference and each instruction set's brute force (skipped on large scenes), each
+/// The scalar reference and each instruction set's brute force per ray and with the rays across
+/// its lanes, and the stream call on the spheres (all skipped on large scenes); each
 /// instruction set's tree per ray and its stream call.
 std::vector<Row> sphray_rows(std::size_t sphere_count);
 

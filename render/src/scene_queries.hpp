@@ -35,13 +35,13 @@ class SceneQueries final : public RayQueries {
       sphray::intersect(view_, rays, hits);
     }
   }
-  // The tree's stream call takes coherent groups (shadow rays towards one light) as packets.
+  // The tree's stream call takes coherent groups (shadow rays towards one light) as packets;
+  // the view's, on few spheres, puts the rays across the lanes.
   void occluded(std::span<const Ray> rays, std::span<bool> blocked) const override {
     if (bvh_) {
       sphray::occluded(*bvh_, rays, blocked);
     } else {
-      for (std::size_t i = 0; i < rays.size(); ++i)
-        blocked[i] = sphray::occluded(view_, rays[i]);
+      sphray::occluded(view_, rays, blocked);
     }
   }
   Surface surface(const Ray& ray, const Hit& hit) const { return sphray::surface(view_, ray, hit); }

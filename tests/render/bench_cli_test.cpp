@@ -28,11 +28,12 @@ class BenchCli : public sphray::test::ScratchDirTest {
   BenchCli() : ScratchDirTest("sphray-bench-") {}
 };
 
-// The rows a small scene has, per ray kind: scalar and each instruction set's brute force, each
-// instruction set's tree, and the stream of each but scalar.
+// The rows a small scene has, per ray kind: scalar and each instruction set's brute force, the
+// rays across the lanes of each but scalar, the stream on the spheres, each instruction set's
+// tree, and the stream of each but scalar.
 std::size_t small_scene_rows() {
   const std::size_t isas = sphray::supported_isas().size();
-  return isas + isas + (isas - 1);
+  return isas + (isas - 1) + 1 + isas + (isas - 1);
 }
 
 TEST_F(BenchCli, TimesEveryRowAndWritesGoogleBenchmarkJson) {
@@ -83,10 +84,10 @@ TEST_F(BenchCli, TimesEveryRowAndWritesGoogleBenchmarkJson) {
   }
   EXPECT_EQ(sphray_rows, 2 * small_scene_rows());
   EXPECT_GE(medians, 2 * small_scene_rows());
-  // Per ray kind: one brute force, the tree and the stream of the dispatched instruction set
-  // (two if the tree's is scalar, which has no stream row).
-  EXPECT_GE(dispatched, 2u * 2u);
-  EXPECT_LE(dispatched, 2u * 3u);
+  // Per ray kind: one brute force, the stream on the spheres, the tree and the stream of the
+  // dispatched instruction set (three if the tree's is scalar, which has no stream row).
+  EXPECT_GE(dispatched, 2u * 3u);
+  EXPECT_LE(dispatched, 2u * 4u);
 }
 
 // The run says up front how long it should take, and at the end how long it took and which of
@@ -128,7 +129,9 @@ TEST_F(BenchCli, SaysWhyItSkipsBruteForceOnLargeScenes) {
   for (std::size_t at = r.out.find(reason); at != std::string::npos;
        at = r.out.find(reason, at + 1))
     ++lines;
-  EXPECT_EQ(lines, sphray::supported_isas().size()) << r.out;  // scalar and each one's
+  // scalar, each instruction set's per ray and across its lanes, and the stream on the spheres
+  const std::size_t brute_rows = 2 * sphray::supported_isas().size();
+  EXPECT_EQ(lines, brute_rows) << r.out;
   EXPECT_NE(r.out.find("scalar brute force"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("scalar tree"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("random rays"), std::string::npos) << r.out;
@@ -136,7 +139,7 @@ TEST_F(BenchCli, SaysWhyItSkipsBruteForceOnLargeScenes) {
   std::size_t skipped = 0;
   for (const auto& row : json.at("context").at("skipped"))
     skipped += row.at("reason").get<std::string>().starts_with("brute force is timed up to");
-  EXPECT_EQ(skipped, sphray::supported_isas().size());
+  EXPECT_EQ(skipped, brute_rows);
   for (const auto& row : json.at("benchmarks"))
     EXPECT_EQ(row.at("name").get<std::string>().find("brute-force"), std::string::npos);
 }
@@ -187,6 +190,14 @@ TEST(BenchReport, RecommendsTheFastestDefaultCallAndSaysWhenItIsWithinTheSpread)
             std::string::npos)
       << text;
   EXPECT_EQ(bench::recommendation({rows.back()}, "camera"), "");
+  // The stream on the spheres themselves (few spheres: the rays across the lanes).
+  rows.push_back({"brute force stream", true, true, true, true, 40e6, 39e6, 41e6});
+  text = bench::recommendation(rows, "camera");
+  EXPECT_EQ(text.rfind("fastest for camera rays: the stream call on the spheres, "
+                       "sphray::intersect(spheres, rays, hits), 40.00 Mrays/s",
+                       0),
+            0u)
+      << text;
 }
 
 TEST_F(BenchCli, ASceneFileErrorSaysWhereAndExitsWithTwo) {

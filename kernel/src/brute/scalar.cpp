@@ -149,6 +149,11 @@ void scalar_stream(SphereView spheres, const Ray* rays, Hit* hits, std::size_t n
     hits[i] = scalar::intersect(spheres, rays[i]);
 }
 
+void scalar_occluded_stream(SphereView spheres, const Ray* rays, bool* blocked, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i)
+    blocked[i] = scalar::occluded(spheres, rays[i]);
+}
+
 void scalar_arrays(SphereView spheres, const RayArrays& rays, const HitArrays& hits) {
   for (std::size_t i = 0; i < rays.count; ++i)
     hits.set(i, scalar::intersect(spheres, rays.at(i)));
@@ -160,13 +165,26 @@ void scalar_bvh_arrays(const BvhData& bvh, const RayArrays& rays, const HitArray
 }
 }  // namespace
 
-constinit const EntryTable kScalarEntries = {Isa::scalar,           1,
-                                             &scalar::intersect,    &scalar::occluded,
-                                             &scalar_stream,        &scalar_arrays,
-                                             kScalarBvhWidth,       &scalar_bvh_intersect,
-                                             &scalar_bvh_occluded,  &scalar_bvh_intersect_stream,
-                                             &scalar_bvh_arrays,    &scalar_bvh_occluded_stream,
-                                             &scalar_intersect_all, &scalar_bvh_intersect_all,
-                                             &scalar_nearest,       &scalar_overlapping,
-                                             &scalar_bvh_nearest,   &scalar_bvh_overlapping};
+// One lane: the rays-across streams are the streams.
+constinit const EntryTable kScalarEntries = {Isa::scalar,
+                                             1,
+                                             &scalar::intersect,
+                                             &scalar::occluded,
+                                             &scalar_stream,
+                                             &scalar_arrays,
+                                             &scalar_occluded_stream,
+                                             &scalar_stream,
+                                             &scalar_occluded_stream,
+                                             kScalarBvhWidth,
+                                             &scalar_bvh_intersect,
+                                             &scalar_bvh_occluded,
+                                             &scalar_bvh_intersect_stream,
+                                             &scalar_bvh_arrays,
+                                             &scalar_bvh_occluded_stream,
+                                             &scalar_intersect_all,
+                                             &scalar_bvh_intersect_all,
+                                             &scalar_nearest,
+                                             &scalar_overlapping,
+                                             &scalar_bvh_nearest,
+                                             &scalar_bvh_overlapping};
 }  // namespace sphray::detail

@@ -50,16 +50,32 @@ struct SphereLanes {
   };
 
   static bool finite(float x) { return __builtin_isfinite(x); }
+  static Mask finite(const Floats& x) { return xsimd::abs(x) < Floats(__builtin_inff()); }
 
-  // False for the rays the contract says miss everything. a = |d|^2 must be a normal, finite
-  // float: 1/a is then finite too.
+  // a = |d|^2, for one ray (T = float) or one per lane (T = Floats), in one order of the sums.
+  template <class T>
+  SPHRAY_FORCE_INLINE static T squared_length(const T& dx, const T& dy, const T& dz) {
+    return dx * dx + dy * dy + dz * dz;
+  }
+
+  // The contract's tests of a ray but its mask's, given a = |d|^2, for one ray (T = float: a
+  // truth value) or one per lane (T = Floats: a Mask; brute/ray_lanes.hpp): finite origin and
+  // direction, tmin < tmax, and a a normal, finite float, so that 1/a is finite too.
+  template <class T>
+  SPHRAY_FORCE_INLINE static auto valid_line(const T& ox, const T& oy, const T& oz, const T& dx,
+                                             const T& dy, const T& dz, const T& tmin, const T& tmax,
+                                             const T& a) {
+    return finite(ox) & finite(oy) & finite(oz) & finite(dx) & finite(dy) & finite(dz) &
+           (tmin < tmax) & (a >= T(0x1p-126f)) & finite(a);
+  }
+
+  // False for the rays the contract says miss everything (valid_line, and a mask of 0).
   SPHRAY_FORCE_INLINE static bool setup(const Ray& ray, RaySetup& s) {
     const Vec3& o = ray.origin;
     const Vec3& d = ray.dir;
-    const float a = d.x * d.x + d.y * d.y + d.z * d.z;
-    const bool ok = finite(o.x) && finite(o.y) && finite(o.z) && finite(d.x) && finite(d.y) &&
-                    finite(d.z) && ray.tmin < ray.tmax && a >= 0x1p-126f && finite(a) &&
-                    ray.mask != 0;
+    const float a = squared_length(d.x, d.y, d.z);
+    const bool ok =
+        valid_line(o.x, o.y, o.z, d.x, d.y, d.z, ray.tmin, ray.tmax, a) && ray.mask != 0;
     if (!ok) return false;
     const float length = __builtin_sqrtf(a);
     const float inv_length = 1.0f / length;

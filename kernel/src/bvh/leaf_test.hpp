@@ -8,6 +8,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "brute/ray_lanes.hpp"
 #include "brute/sphere_lanes.hpp"
 #include "bvh/bvh_data.hpp"
 #include "bvh/robust_slab.hpp"
@@ -77,29 +78,16 @@ struct LeafTest {
 
   // any_hit transposed, for a packet's rays at one leaf: rays in the lanes (rays holds their
   // setups lane by lane, tmax and ray_masks their ends and masks) against the leaf's spheres,
-  // slots [i, i + count), one at a time, each broadcast to every lane. Returns the lanes of
-  // open that some sphere blocks strictly between their tmin and tmax. A (ray, sphere) pair
-  // takes in its lane the very operations any_hit gives it (the masks' test is an and, which
-  // commutes), so each lane's answer is any_hit's for its ray, bit for bit; the padding slots
-  // after count, which no ray hits, are skipped. Stops once every open lane is blocked.
+  // slots [i, i + count), one at a time (RayLanes::any_hit). Returns the lanes of open that
+  // some sphere blocks strictly between their tmin and tmax; each lane's answer is any_hit's
+  // for its ray, bit for bit. The padding slots after count, which no ray hits, are skipped.
   template <bool kMasked>
   SPHRAY_FORCE_INLINE static Mask any_hit_across(const BvhData& bvh,
                                                  const typename Batch::RaySetup& rays,
                                                  const Floats& tmax, const Uints& ray_masks,
                                                  std::size_t i, std::size_t count, Mask open) {
-    const SphereView& v = bvh.spheres;
-    Mask blocked(false);
-    for (std::size_t j = i; j < i + count; ++j) {
-      typename Batch::Spheres sphere{Floats(v.cx[j]), Floats(v.cy[j]), Floats(v.cz[j]),
-                                     Floats(v.radius[j])};
-      if constexpr (kMasked) Batch::hide_unseen(sphere, ray_masks, v.mask[j]);
-      Floats t;
-      Mask live;
-      if (!Batch::template roots<Skip::kAfterDisc>(rays, sphere, t, live)) continue;
-      blocked = blocked | (live & (t > rays.tmin) & (t < tmax));
-      if (xsimd::none(open & ~blocked)) break;
-    }
-    return open & blocked;
+    return RayLanes<A>::template any_hit<kMasked>(bvh.spheres, rays, tmax, ray_masks, i, count,
+                                                  open);
   }
 
   // The lowest id among the lanes of the leaf at slot i whose bits are set (at least one).

@@ -6,6 +6,7 @@
 
 #include "all_hits/all_hits.hpp"
 #include "brute/brute_force.hpp"
+#include "brute/ray_lanes.hpp"
 #include "bvh/scalar_walk.hpp"
 #include "bvh/stream.hpp"
 #include "bvh/traverse.hpp"
@@ -29,8 +30,10 @@ struct EntryPoints {
     return QueryPlan::scalar(v.count) ? scalar::occluded(v, ray) : Brute::occluded(v, ray);
   }
   // Rays: `const Ray*` or RayColumns, Hits: `Hit*` or HitColumns (storage/ray_columns.hpp).
+  using Across = RayLanes<A>;
   template <class Rays, class Hits>
   static void brute_stream(SphereView v, Rays rays, Hits hits, std::size_t n) {
+    if (QueryPlan::rays_across(v.count)) return Across::intersect_stream(v, rays, hits, n);
     if (QueryPlan::scalar(v.count)) {
       for (std::size_t i = 0; i < n; ++i)
         hits[i] = scalar::intersect(v, rays[i]);
@@ -44,6 +47,17 @@ struct EntryPoints {
   }
   static void intersect_arrays(SphereView v, const RayArrays& rays, const HitArrays& hits) {
     brute_stream(v, RayColumns{rays}, HitColumns{hits}, rays.count);
+  }
+  static void occluded_stream(SphereView v, const Ray* rays, bool* blocked, std::size_t n) {
+    if (QueryPlan::rays_across(v.count)) return Across::occluded_stream(v, rays, blocked, n);
+    for (std::size_t i = 0; i < n; ++i)
+      blocked[i] = occluded(v, rays[i]);
+  }
+  static void intersect_across(SphereView v, const Ray* rays, Hit* hits, std::size_t n) {
+    Across::intersect_stream(v, rays, hits, n);
+  }
+  static void occluded_across(SphereView v, const Ray* rays, bool* blocked, std::size_t n) {
+    Across::occluded_stream(v, rays, blocked, n);
   }
 
   // A tree over so few spheres takes the scalar path too, so that it returns exactly what the
@@ -72,12 +86,7 @@ struct EntryPoints {
         hits[i] = scalar_bvh_intersect(bvh, rays[i]);
       return;
     }
-    if (QueryPlan::brute_force_tree(bvh)) {
-      const SphereView v = flat_spheres(bvh);
-      for (std::size_t i = 0; i < n; ++i)
-        hits[i] = Brute::intersect(v, rays[i]);
-      return;
-    }
+    if (QueryPlan::brute_force_tree(bvh)) return brute_stream(flat_spheres(bvh), rays, hits, n);
     TreeStream<A>::intersect_stream(bvh, rays, hits, n);
   }
   static void bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n) {
@@ -90,12 +99,8 @@ struct EntryPoints {
   static void bvh_occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked,
                                   std::size_t n) {
     if (QueryPlan::scalar(bvh.count)) return scalar_bvh_occluded_stream(bvh, rays, blocked, n);
-    if (QueryPlan::brute_force_tree(bvh)) {
-      const SphereView v = flat_spheres(bvh);
-      for (std::size_t i = 0; i < n; ++i)
-        blocked[i] = Brute::occluded(v, rays[i]);
-      return;
-    }
+    if (QueryPlan::brute_force_tree(bvh))
+      return occluded_stream(flat_spheres(bvh), rays, blocked, n);
     TreeStream<A>::occluded_stream(bvh, rays, blocked, n);
   }
 
@@ -135,6 +140,9 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::occluded,
           &E::intersect_stream,
           &E::intersect_arrays,
+          &E::occluded_stream,
+          &E::intersect_across,
+          &E::occluded_across,
           E::Tree::kWidth,
           &E::bvh_intersect,
           &E::bvh_occluded,

@@ -27,6 +27,13 @@ struct EntryTable {
   /// The same stream with rays and hits as arrays per quantity (ray_arrays.hpp): hit i is
   /// intersect(spheres, rays.at(i)) for i < rays.count; hits.count == rays.count.
   void (*intersect_arrays)(SphereView spheres, const RayArrays& rays, const HitArrays& hits);
+  /// blocked[i] = occluded(spheres, rays[i]) for i < count.
+  void (*occluded_stream)(SphereView spheres, const Ray* rays, bool* blocked, std::size_t count);
+  /// The two streams above with the rays across the lanes whatever the view's size
+  /// (brute/ray_lanes.hpp), where the query plan would take them only for few spheres: the
+  /// same answers, for tests and benchmarks.
+  void (*intersect_across)(SphereView spheres, const Ray* rays, Hit* hits, std::size_t count);
+  void (*occluded_across)(SphereView spheres, const Ray* rays, bool* blocked, std::size_t count);
   /// The SphereBVH entries (bvh.hpp) for trees of bvh_width children per node and spheres per
   /// leaf batch.
   std::size_t bvh_width;

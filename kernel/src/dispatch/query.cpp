@@ -25,30 +25,32 @@ bool occluded(SphereView spheres, const Ray& ray) {
   return detail::entries_for_size(spheres.count).occluded(spheres, ray);
 }
 
+namespace {
+// The kernel of a stream on a view, looked up once for the whole stream: with the rays across
+// the lanes (QueryPlan::rays_across) the active instruction set, whose lanes hold the most
+// rays; otherwise the one for the view's size, as for a single ray.
+const detail::EntryTable& stream_entries(std::size_t sphere_count) {
+  if (detail::SPHRAY_ISA_NAMESPACE::QueryPlan::rays_across(sphere_count))
+    return detail::active_entries();
+  return detail::entries_for_size(sphere_count);
+}
+}  // namespace
+
 void intersect(SphereView spheres, std::span<const Ray> rays, std::span<Hit> hits) {
   if (rays.size() != hits.size())
     throw std::length_error("sphray::intersect: rays and hits differ in size");
-  detail::entries_for_size(spheres.count)
-      .intersect_stream(spheres, rays.data(), hits.data(), rays.size());
+  stream_entries(spheres.count).intersect_stream(spheres, rays.data(), hits.data(), rays.size());
 }
 
 void intersect(SphereView spheres, const RayArrays& rays, const HitArrays& hits) {
   detail::check_arrays(rays, hits);
-  detail::entries_for_size(spheres.count).intersect_arrays(spheres, rays, hits);
+  stream_entries(spheres.count).intersect_arrays(spheres, rays, hits);
 }
 
-// The kernel looked up once for the whole stream; a view has no packets, every ray goes alone.
 void occluded(SphereView spheres, std::span<const Ray> rays, std::span<bool> blocked) {
   if (rays.size() != blocked.size())
     throw std::length_error("sphray::occluded: rays and blocked differ in size");
-  if (detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(spheres.count)) {
-    for (std::size_t i = 0; i < rays.size(); ++i)
-      blocked[i] = scalar::occluded(spheres, rays[i]);
-    return;
-  }
-  const detail::EntryTable& entries = detail::entries_for_size(spheres.count);
-  for (std::size_t i = 0; i < rays.size(); ++i)
-    blocked[i] = entries.occluded(spheres, rays[i]);
+  stream_entries(spheres.count).occluded_stream(spheres, rays.data(), blocked.data(), rays.size());
 }
 
 }  // namespace sphray

@@ -13,6 +13,8 @@
 //                                        lines into packets (both streams)
 //                                     8. at a packet's leaf, rays one at a time or in lanes
 //                                        (occlusion)
+//   sphray::intersect(view, rays, ..) 9. one ray at a time, or the rays across the lanes
+//   sphray::occluded(view, rays, ..)     (few spheres; also small trees built flat)
 //
 // Measured in docs/performance.md and docs/bvh.md; docs/architecture.md follows a ray through.
 #pragma once
@@ -191,6 +193,22 @@ struct QueryPlan {
   // lanes from as many rays as spheres, or from a quarter as many, measured as this rule
   // (from half as many) within the noise.
   static bool leaf_across(std::size_t rays, std::size_t spheres) { return 2 * rays >= spheres; }
+
+  // 9. A stream on a view of few spheres puts its rays in the lanes, a batch of rays against
+  // one broadcast sphere at a time (brute/ray_lanes.hpp), instead of one ray against batches of
+  // spheres: a batch of spheres is then mostly padding, and each ray pays its set-up and the
+  // horizontal reduction for a handful of sphere tests. Rays across the lanes test every sphere
+  // for every ray, with no pre-test skipping the spheres far from the ray, so one ray at a time
+  // wins again on larger views. Measured with `sphray bench` on random scenes of 1 to 64
+  // spheres, camera and random rays, the 16-wide rows against the dispatched one-ray kernel
+  // (docs/performance.md, "Rays across the lanes"): camera rays break even at kAcrossUpTo
+  // spheres, random rays a little beyond 64. The rule does not look at the stream's length
+  // (not measured: the renderer's streams are a tile's rays, hundreds at least; a stream
+  // shorter than a batch leaves lanes empty). The widest instruction set takes such streams
+  // (query.cpp): it measured the fastest but against 1 or 2 spheres, where the 8-wide rows led
+  // by a few percent on one of the two kinds of rays. Same bits either way.
+  static constexpr std::size_t kAcrossUpTo = 48;
+  static bool rays_across(std::size_t sphere_count) { return sphere_count <= kAcrossUpTo; }
 };
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE
