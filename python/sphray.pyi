@@ -1,7 +1,7 @@
 """Fast, exact ray/sphere intersection on numpy arrays (type stubs for the extension)."""
 
 from os import PathLike
-from typing import Literal, Optional, Tuple, Union
+from typing import Any, Dict, Literal, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -121,7 +121,7 @@ def pinhole_rays(
     """(origins, unit directions), each (height, width, 3) float32, row 0 at the top."""
 
 def render(
-    scene: Union[str, "PathLike[str]"] = "rtiow-final",
+    scene: Union[str, "PathLike[str]", Scene, Tuple[_ArrayLike, _ArrayLike]] = "rtiow-final",
     mode: Literal["normals", "flat", "depth", "id", "shaded", "path"] = "normals",
     width: Optional[int] = None,
     height: Optional[int] = None,
@@ -131,8 +131,12 @@ def render(
     accel: Literal["auto", "bvh", "brute"] = "auto",
     max_depth: int = 50,
     time_limit: float = 0.0,
-) -> npt.NDArray[np.uint8]:
-    """A preset or JSON scene rendered by the renderer: uint8 (height, width, 3)."""
+    camera: Optional[Dict[str, Any]] = None,
+    colors: Optional[_ArrayLike] = None,
+    linear: bool = False,
+) -> npt.NDArray[Any]:
+    """A preset, a JSON scene or your own spheres rendered: uint8 (height, width, 3), or
+    float32 linear radiance with linear=True (path mode)."""
 
 def active_isa() -> str:
     """The instruction set in use: 'scalar', 'sse4.2', 'avx2', 'avx512' or 'neon'."""

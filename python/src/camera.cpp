@@ -6,6 +6,7 @@
 #include "interruption.hpp"
 #include "ray_batches.hpp"
 #include "sphray/render/camera.hpp"
+#include "sphray/render/path_tracer.hpp"
 #include "sphray/render/renderer.hpp"
 #include "sphray/render/scene.hpp"
 
@@ -57,7 +58,86 @@ render::RenderOptions render_options(const RenderRequest& r, const render::Scene
   return options;
 }
 
+// With no camera given, the caller's spheres seen whole: from +z, looking down -z at the centre
+// of their bounding box, far enough that the box's bounding sphere fits the vertical field of
+// view (the horizontal one is wider at the default 16:9). Spheres the kernel never hits (NaN
+// or infinite fields, radius <= 0) are left out; with none left, the default camera.
+render::CameraSpec framing(const SphereSoA& spheres) {
+  render::CameraSpec camera;
+  camera.vfov = 40.0f;
+  const SphereView v = spheres.view();
+  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (std::size_t i = 0; i < v.count; ++i) {
+    const float c[3] = {v.cx[i], v.cy[i], v.cz[i]}, r = v.radius[i];
+    if (!(std::isfinite(c[0]) && std::isfinite(c[1]) && std::isfinite(c[2]) && r > 0.0f &&
+          std::isfinite(r)))
+      continue;
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], c[k] - r);
+      hi[k] = std::max(hi[k], c[k] + r);
+    }
+  }
+  if (!(lo[0] <= hi[0])) return camera;
+  const Vec3 centre{0.5f * (lo[0] + hi[0]), 0.5f * (lo[1] + hi[1]), 0.5f * (lo[2] + hi[2])};
+  const float half = 0.5f * length(Vec3{hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  const float distance = 1.1f * half / std::sin(0.5f * camera.vfov * 3.14159265f / 180.0f);
+  camera.lookat = centre;
+  camera.lookfrom = centre + Vec3{0.0f, 0.0f, distance};
+  camera.focus_dist = distance;
+  return camera;
+}
+
+render::Scene scene_of(const RenderRequest& r) {
+  render::Scene scene;
+  if (r.spheres) {
+    scene.name = "spheres";
+    scene.spheres = *r.spheres;
+    scene.colors = r.colors;
+    scene.colors.resize(scene.spheres.size(), Vec3{0.5f, 0.5f, 0.5f});  // scene files' grey
+    scene.camera = framing(scene.spheres);
+  } else {
+    scene = render::load_scene_or_preset(r.scene);
+  }
+  // The camera parsed as a scene file's, with the same checks and messages.
+  if (r.camera) {
+    scene.camera =
+        render::parse_scene("{\"camera\": " + *r.camera + ", \"spheres\": []}", "camera").camera;
+  }
+  return scene;
+}
+
+py::array linear_image(const std::vector<Vec3>& radiance, int width, int height) {
+  auto out = new_array<float>({height, width}, {3});
+  float* p = out.mutable_data();
+  for (const Vec3& c : radiance) {
+    *p++ = c.x;
+    *p++ = c.y;
+    *p++ = c.z;
+  }
+  return out;
+}
+
 }  // namespace
+
+std::vector<Vec3> colors_of(const py::handle& colors, std::size_t count) {
+  const py::array a = as_real_array("colors", colors);
+  if (a.ndim() != 2 || a.shape(0) != static_cast<py::ssize_t>(count) || a.shape(1) != 3) {
+    throw py::value_error("colors: expected the shape (" + std::to_string(count) +
+                          ", 3), one per sphere, got " + shape_text(a));
+  }
+  const auto f = converted<float, py::array::c_style>("colors", a);
+  std::vector<Vec3> out(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const float c = f.data()[3 * i + static_cast<std::size_t>(k)];
+      if (!(c >= 0.0f && c <= 1.0f)) {
+        throw py::value_error("colors[" + std::to_string(i) + "]: expected components in [0, 1]");
+      }
+    }
+    out[i] = {f.data()[3 * i], f.data()[3 * i + 1], f.data()[3 * i + 2]};
+  }
+  return out;
+}
 
 py::tuple pinhole_rays(const py::handle& eye, const py::handle& target, const py::handle& up,
                        double vfov_deg, int width, int height) {
@@ -105,24 +185,35 @@ py::array render(const RenderRequest& request) {
   render::Scene scene;
   render::RenderOptions options;
   try {
-    scene = render::load_scene_or_preset(request.scene);
+    scene = scene_of(request);
     options = render_options(request, scene);
   } catch (const render::SceneError& e) {
     throw py::value_error(e.what());
   }
+  if (request.linear && options.mode != render::Mode::path) {
+    throw py::value_error("linear: only path mode has a linear image (its radiance); got mode '" +
+                          request.mode + "'");
+  }
   render::Image image;
+  std::vector<Vec3> radiance;
   {
     py::gil_scoped_release release;
     try {
       // The renderer reports each finished tile: there the calling thread answers a Ctrl-C.
       Interruption interruption;
-      image = render::render(
-          scene, options,
-          [&](std::size_t, std::size_t, const render::RayCounts&) { interruption.check(); });
+      const render::Progress progress = [&](std::size_t, std::size_t, const render::RayCounts&) {
+        interruption.check();
+      };
+      if (request.linear) {
+        radiance = render::render_radiance(scene, options, progress);
+      } else {
+        image = render::render(scene, options, progress);
+      }
     } catch (const render::SceneError& e) {
       throw std::invalid_argument(e.what());  // ValueError, raised once the GIL is back
     }
   }
+  if (request.linear) return linear_image(radiance, options.width, options.height);
   auto out = new_array<std::uint8_t>({image.height, image.width}, {3});
   std::memcpy(out.mutable_data(), image.rgb.data(), image.rgb.size());
   return out;

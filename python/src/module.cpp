@@ -16,6 +16,7 @@
 #include "sphray/sphray.hpp"
 
 namespace py = pybind11;
+using namespace pybind11::literals;
 using sphray::python::RenderRequest;
 using sphray::python::Scene;
 
@@ -185,11 +186,17 @@ view direction, a value is not finite, or the size is not positive.)doc";
 
 constexpr const char* kRenderDoc =
     R"doc(render(scene="rtiow-final", mode="normals", width=None, height=None, spp=4, seed=0,
-       threads=0, accel="auto", max_depth=50, time_limit=0) -> uint8 array (height, width, 3)
+       threads=0, accel="auto", max_depth=50, time_limit=0, camera=None, colors=None,
+       linear=False) -> uint8 array (height, width, 3)
 
-Renders one of the renderer's scenes to an image.
+Renders a scene to an image: one of the renderer's, or spheres of your own.
 
-scene: a preset ("single", "three", "rtiow-final", "random:N") or a JSON scene file.
+scene: a preset ("single", "three", "rtiow-final", "random:N"), a JSON scene file, a
+sphray.Scene, or (centers, radii) arrays. Your own spheres are grey Lambertian, or coloured by
+colors (N, 3) in [0, 1]; without a camera they are framed whole from +z. camera: a dict as
+scene files write one ("lookfrom", "lookat", "vup", "vfov", "defocus_angle", "focus_dist"),
+replacing the scene's. linear=True (path mode): the mean radiance of each pixel as float32,
+linear and unclamped, instead of bytes.
 mode: "normals", "flat", "depth", "id", "shaded" or "path". width, height: the scene's own
 size when neither is given, its aspect when one is. spp: samples per pixel; threads: 0 for
 all cores; time_limit: path mode, seconds after which no sample is started (0: none). The
@@ -320,18 +327,49 @@ PYBIND11_MODULE(sphray, m) {
 
   m.def(
       "render",
-      [](const py::object& scene, const std::string& mode, std::optional<int> width,
-         std::optional<int> height, int spp, std::uint64_t seed, int threads,
-         const std::string& accel, int max_depth, double time_limit) {
-        // A preset name, or a scene file as str or pathlib.Path (os.fspath takes both).
-        const auto name = py::module_::import("os").attr("fspath")(scene).cast<std::string>();
-        return sphray::python::render(RenderRequest{name, mode, width, height, spp, seed, threads,
-                                                    accel, max_depth, time_limit});
+      [m](const py::object& scene, const std::string& mode, std::optional<int> width,
+          std::optional<int> height, int spp, std::uint64_t seed, int threads,
+          const std::string& accel, int max_depth, double time_limit, const py::object& camera,
+          const py::object& colors, bool linear) {
+        RenderRequest r;
+        r.mode = mode;
+        r.width = width;
+        r.height = height;
+        r.spp = spp;
+        r.seed = seed;
+        r.threads = threads;
+        r.accel = accel;
+        r.max_depth = max_depth;
+        r.time_limit = time_limit;
+        if (py::isinstance<Scene>(scene) || py::isinstance<py::tuple>(scene)) {
+          // The caller's spheres: a Scene, or (centers, radii) made into one.
+          const py::object own =
+              py::isinstance<Scene>(scene) ? scene : m.attr("Scene")(*scene, "accel"_a = "brute");
+          r.spheres = scene_in(own).copy_spheres();
+          if (!colors.is_none()) r.colors = sphray::python::colors_of(colors, r.spheres->size());
+        } else {
+          // A preset name, or a scene file as str or pathlib.Path (os.fspath takes both).
+          r.scene = py::module_::import("os").attr("fspath")(scene).cast<std::string>();
+          if (!colors.is_none())
+            throw py::value_error("colors: only for spheres of your own (a Scene or arrays)");
+        }
+        if (!camera.is_none()) {
+          // As JSON, parsed as a scene file's camera; numpy values through their tolist().
+          r.camera =
+              py::module_::import("json")
+                  .attr("dumps")(
+                      camera,
+                      "default"_a = py::module_::import("operator").attr("methodcaller")("tolist"))
+                  .cast<std::string>();
+        }
+        r.linear = linear;
+        return sphray::python::render(r);
       },
       py::arg("scene") = "rtiow-final", py::arg("mode") = "normals", py::arg("width") = py::none(),
       py::arg("height") = py::none(), py::arg("spp") = RenderRequest{}.spp, py::arg("seed") = 0,
       py::arg("threads") = 0, py::arg("accel") = "auto", py::arg("max_depth") = 50,
-      py::arg("time_limit") = 0.0, kRenderDoc);
+      py::arg("time_limit") = 0.0, py::arg("camera") = py::none(), py::arg("colors") = py::none(),
+      py::arg("linear") = false, kRenderDoc);
 
   m.def(
       "active_isa", [] { return std::string(sphray::isa_name(sphray::active_isa())); },

@@ -148,4 +148,14 @@ void Scene::refit(const py::handle& centers, const py::handle& radii, const py::
   spheres_ = std::move(next);  // the old arrays are released with the GIL held
 }
 
+sphray::SphereSoA Scene::copy_spheres() const {
+  std::shared_lock lock(mutex_);
+  const SphereView v = spheres_.view();
+  sphray::SphereSoA copy;
+  copy.reserve(v.count);
+  for (std::size_t i = 0; i < v.count; ++i)
+    copy.add({v.cx[i], v.cy[i], v.cz[i]}, v.radius[i]);
+  return copy;
+}
+
 }  // namespace sphray::python

@@ -70,6 +70,8 @@ class Scene {
   void refit(const py::handle& centers, const py::handle& radii, const py::handle& masks);
 
   std::size_t size() const { return spheres_.size(); }
+  /// A copy of the spheres (centres and radii, not masks), for the renderer.
+  sphray::SphereSoA copy_spheres() const;
   bool uses_bvh() const { return bvh_.has_value(); }
   /// Read-only views of the arrays the scene reads (the caller's own, or its copies).
   py::array centers() const { return read_only_view(spheres_.centers()); }

@@ -1,6 +1,9 @@
 """pinhole_rays and render against numpy references of the book's camera and shading."""
 
+import json
+
 import numpy as np
+import pytest
 
 import reference as ref
 import sphray
@@ -51,3 +54,70 @@ def test_render_takes_a_scene_file_as_path(tmp_path):
     assert (from_path == sphray.render(str(scene), mode="flat", width=32, height=18, spp=1)).all()
     # flat mode: the sphere red (255, 0, 0) in the middle, sky at the corners
     assert tuple(from_path[9, 16]) == (255, 0, 0) and tuple(from_path[0, 0]) != (255, 0, 0)
+
+
+def own_spheres(rng, n=40):
+    centers = rng.uniform(-3, 3, size=(n, 3)).astype(np.float32)
+    radii = rng.uniform(0.2, 0.8, size=n).astype(np.float32)
+    colors = rng.uniform(0, 1, size=(n, 3)).astype(np.float32)
+    return centers, radii, colors
+
+
+CAMERA = {"lookfrom": [1.0, 2.0, 12.0], "lookat": [0.0, 0.0, 0.0], "vup": [0, 1, 0], "vfov": 45}
+
+
+def as_scene_file(path, centers, radii, colors, camera):
+    """The same spheres and camera as a JSON scene file: what the command reads."""
+    spheres = [{"center": [float(x) for x in c], "radius": float(r),
+                "color": [float(x) for x in k]} for c, r, k in zip(centers, radii, colors)]
+    path.write_text(json.dumps({"camera": camera, "spheres": spheres}))
+    return path
+
+
+@pytest.mark.parametrize("mode", ["normals", "shaded", "path"])
+def test_render_own_spheres_as_the_command_renders_them(rng, tmp_path, mode):
+    centers, radii, colors = own_spheres(rng)
+    file = as_scene_file(tmp_path / "own.json", centers, radii, colors, CAMERA)
+    options = dict(mode=mode, width=64, height=36, spp=2, max_depth=4)
+    expected = sphray.render(file, **options)
+    scene = sphray.Scene(centers, radii)
+    got = sphray.render(scene, camera=CAMERA, colors=colors, **options)
+    np.testing.assert_array_equal(got, expected)
+    # The arrays themselves, and a camera of numpy values, give the same image.
+    camera = {k: np.asarray(v) for k, v in CAMERA.items()}
+    np.testing.assert_array_equal(
+        sphray.render((centers, radii), camera=camera, colors=colors, **options), expected)
+
+
+def test_render_frames_own_spheres_without_a_camera(rng):
+    centers, radii, _ = own_spheres(rng)
+    centers += np.float32([100, -50, 20])   # far from the default camera's view
+    image = sphray.render((centers, radii), mode="flat", width=96, height=54, spp=1)
+    red = np.all(image == [255, 0, 0], axis=2)
+    assert red.sum() > 0.05 * red.size       # the spheres fill a good part of the image
+    assert not red[0].any() and not red[-1].any()   # and all of them fit: sky above and below
+    assert not red[:, 0].any() and not red[:, -1].any()
+
+
+def test_render_linear_is_the_radiance_the_bytes_encode(rng):
+    linear = sphray.render("three", mode="path", width=48, height=27, spp=3, linear=True)
+    assert linear.dtype == np.float32 and linear.shape == (27, 48, 3)
+    image = sphray.render("three", mode="path", width=48, height=27, spp=3)
+    # Gamma 2, then the book's bytes.
+    np.testing.assert_array_equal(to_byte(np.sqrt(np.maximum(linear, 0))), image)
+    with pytest.raises(ValueError, match="linear"):
+        sphray.render("three", mode="normals", linear=True)
+
+
+def test_render_refuses_bad_colors_and_cameras(rng):
+    centers, radii, colors = own_spheres(rng, 5)
+    with pytest.raises(ValueError, match=r"colors.*\(5, 3\)"):
+        sphray.render((centers, radii), colors=colors[:4])
+    with pytest.raises(ValueError, match=r"colors\[2\]"):
+        bad = colors.copy()
+        bad[2, 1] = 1.5
+        sphray.render((centers, radii), colors=bad)
+    with pytest.raises(ValueError, match="colors"):
+        sphray.render("three", colors=colors)
+    with pytest.raises(ValueError, match="camera"):
+        sphray.render("three", camera={"lookfrom": [0, 0, 0], "lookat": [0, 0, 0]})
