@@ -1,7 +1,7 @@
 """Fast, exact ray/sphere intersection on numpy arrays (type stubs for the extension)."""
 
 from os import PathLike
-from typing import Any, Dict, Literal, Optional, Tuple, Union
+from typing import Any, Dict, Literal, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -133,6 +133,7 @@ def render(
     time_limit: float = 0.0,
     camera: Optional[Dict[str, Any]] = None,
     colors: Optional[_ArrayLike] = None,
+    materials: Union[None, Dict[str, Any], Sequence[Dict[str, Any]]] = None,
     linear: bool = False,
 ) -> npt.NDArray[Any]:
     """A preset, a JSON scene or your own spheres rendered: uint8 (height, width, 3), or

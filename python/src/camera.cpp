@@ -1,5 +1,6 @@
 #include "camera.hpp"
 
+#include <cstdio>
 #include <cstring>
 
 #include "arrays.hpp"
@@ -87,6 +88,32 @@ render::CameraSpec framing(const SphereSoA& spheres) {
   return camera;
 }
 
+// The caller's materials, each parsed as a scene file's sphere would hold it (the same checks
+// and defaults: a material without an albedo takes the sphere's colour, a sphere without a
+// colour shows its material's albedo in the other modes). One material serves every sphere.
+void add_materials(render::Scene& scene, const RenderRequest& r) {
+  const std::size_t n = scene.spheres.size();
+  if (r.materials.size() != 1 && r.materials.size() != n) {
+    throw py::value_error("materials: expected one, or one per sphere (" + std::to_string(n) +
+                          "), got " + std::to_string(r.materials.size()));
+  }
+  std::string text = "{\"spheres\": [";
+  char color[96];
+  for (std::size_t i = 0; i < n; ++i) {
+    text += i == 0 ? "{" : ", {";
+    text += "\"center\": [0, 0, 0], \"radius\": 1, ";
+    if (!r.colors.empty()) {
+      const Vec3 c = r.colors[i];
+      std::snprintf(color, sizeof color, "\"color\": [%.9g, %.9g, %.9g], ", c.x, c.y, c.z);
+      text += color;
+    }
+    text += "\"material\": " + r.materials[r.materials.size() == 1 ? 0 : i] + "}";
+  }
+  render::Scene parsed = render::parse_scene(text + "]}", "materials");
+  scene.colors = std::move(parsed.colors);
+  scene.materials = std::move(parsed.materials);
+}
+
 render::Scene scene_of(const RenderRequest& r) {
   render::Scene scene;
   if (r.spheres) {
@@ -95,6 +122,7 @@ render::Scene scene_of(const RenderRequest& r) {
     scene.colors = r.colors;
     scene.colors.resize(scene.spheres.size(), Vec3{0.5f, 0.5f, 0.5f});  // scene files' grey
     scene.camera = framing(scene.spheres);
+    if (!r.materials.empty()) add_materials(scene, r);
   } else {
     scene = render::load_scene_or_preset(r.scene);
   }

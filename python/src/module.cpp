@@ -187,13 +187,15 @@ view direction, a value is not finite, or the size is not positive.)doc";
 constexpr const char* kRenderDoc =
     R"doc(render(scene="rtiow-final", mode="normals", width=None, height=None, spp=4, seed=0,
        threads=0, accel="auto", max_depth=50, time_limit=0, camera=None, colors=None,
-       linear=False) -> uint8 array (height, width, 3)
+       materials=None, linear=False) -> uint8 array (height, width, 3)
 
 Renders a scene to an image: one of the renderer's, or spheres of your own.
 
 scene: a preset ("single", "three", "rtiow-final", "random:N"), a JSON scene file, a
 sphray.Scene, or (centers, radii) arrays. Your own spheres are grey Lambertian, or coloured by
-colors (N, 3) in [0, 1]; without a camera they are framed whole from +z. camera: a dict as
+colors (N, 3) in [0, 1], with materials (one dict, or one per sphere) as scene files write
+them ({"type": "metal", "albedo": [...], "fuzz": 0.1}, ...); without a camera they are framed
+whole from +z. camera: a dict as
 scene files write one ("lookfrom", "lookat", "vup", "vfov", "defocus_angle", "focus_dist"),
 replacing the scene's. linear=True (path mode): the mean radiance of each pixel as float32,
 linear and unclamped, instead of bytes.
@@ -202,6 +204,12 @@ size when neither is given, its aspect when one is. spp: samples per pixel; thre
 all cores; time_limit: path mode, seconds after which no sample is started (0: none). The
 same image as `sphray render` with the same options, and the same defaults. Raises ValueError
 for an unknown scene or mode or a value out of range; Ctrl-C stops it with KeyboardInterrupt.)doc";
+
+// obj as JSON text, for the renderer's scene parser; numpy values go through their tolist().
+std::string as_json(const py::handle& obj) {
+  const py::object tolist = py::module_::import("operator").attr("methodcaller")("tolist");
+  return py::module_::import("json").attr("dumps")(obj, "default"_a = tolist).cast<std::string>();
+}
 
 // Whether self, a sphray.Scene (or an instance of a Python subclass), holds its C++ Scene yet.
 bool constructed(py::handle self) {
@@ -330,7 +338,7 @@ PYBIND11_MODULE(sphray, m) {
       [m](const py::object& scene, const std::string& mode, std::optional<int> width,
           std::optional<int> height, int spp, std::uint64_t seed, int threads,
           const std::string& accel, int max_depth, double time_limit, const py::object& camera,
-          const py::object& colors, bool linear) {
+          const py::object& colors, const py::object& materials, bool linear) {
         RenderRequest r;
         r.mode = mode;
         r.width = width;
@@ -347,21 +355,22 @@ PYBIND11_MODULE(sphray, m) {
               py::isinstance<Scene>(scene) ? scene : m.attr("Scene")(*scene, "accel"_a = "brute");
           r.spheres = scene_in(own).copy_spheres();
           if (!colors.is_none()) r.colors = sphray::python::colors_of(colors, r.spheres->size());
+          if (!materials.is_none()) {
+            const py::list list = py::isinstance<py::dict>(materials)
+                                      ? py::list(py::make_tuple(materials))
+                                      : py::list(materials);
+            for (const py::handle& material : list)
+              r.materials.push_back(as_json(material));
+          }
         } else {
           // A preset name, or a scene file as str or pathlib.Path (os.fspath takes both).
           r.scene = py::module_::import("os").attr("fspath")(scene).cast<std::string>();
-          if (!colors.is_none())
-            throw py::value_error("colors: only for spheres of your own (a Scene or arrays)");
+          if (!colors.is_none() || !materials.is_none()) {
+            throw py::value_error(
+                "colors, materials: only for spheres of your own (a Scene or arrays)");
+          }
         }
-        if (!camera.is_none()) {
-          // As JSON, parsed as a scene file's camera; numpy values through their tolist().
-          r.camera =
-              py::module_::import("json")
-                  .attr("dumps")(
-                      camera,
-                      "default"_a = py::module_::import("operator").attr("methodcaller")("tolist"))
-                  .cast<std::string>();
-        }
+        if (!camera.is_none()) r.camera = as_json(camera);  // parsed as a scene file's camera
         r.linear = linear;
         return sphray::python::render(r);
       },
@@ -369,7 +378,7 @@ PYBIND11_MODULE(sphray, m) {
       py::arg("height") = py::none(), py::arg("spp") = RenderRequest{}.spp, py::arg("seed") = 0,
       py::arg("threads") = 0, py::arg("accel") = "auto", py::arg("max_depth") = 50,
       py::arg("time_limit") = 0.0, py::arg("camera") = py::none(), py::arg("colors") = py::none(),
-      py::arg("linear") = false, kRenderDoc);
+      py::arg("materials") = py::none(), py::arg("linear") = false, kRenderDoc);
 
   m.def(
       "active_isa", [] { return std::string(sphray::isa_name(sphray::active_isa())); },

@@ -66,12 +66,42 @@ def own_spheres(rng, n=40):
 CAMERA = {"lookfrom": [1.0, 2.0, 12.0], "lookat": [0.0, 0.0, 0.0], "vup": [0, 1, 0], "vfov": 45}
 
 
-def as_scene_file(path, centers, radii, colors, camera):
+def as_scene_file(path, centers, radii, colors, camera, materials=None):
     """The same spheres and camera as a JSON scene file: what the command reads."""
     spheres = [{"center": [float(x) for x in c], "radius": float(r),
                 "color": [float(x) for x in k]} for c, r, k in zip(centers, radii, colors)]
+    for sphere, material in zip(spheres, materials or []):
+        sphere["material"] = material
     path.write_text(json.dumps({"camera": camera, "spheres": spheres}))
     return path
+
+
+MATERIALS = [{"type": "lambertian"}, {"type": "metal", "albedo": [0.8, 0.7, 0.6], "fuzz": 0.2},
+             {"type": "dielectric", "ior": 1.5}, {"type": "metal", "fuzz": 0.0}]
+
+
+def test_render_own_spheres_with_materials_as_a_scene_file(rng, tmp_path):
+    centers, radii, colors = own_spheres(rng, 12)
+    materials = [MATERIALS[i % len(MATERIALS)] for i in range(12)]
+    file = as_scene_file(tmp_path / "m.json", centers, radii, colors, CAMERA, materials)
+    options = dict(mode="path", width=48, height=27, spp=4, max_depth=6)
+    expected = sphray.render(file, **options)
+    got = sphray.render((centers, radii), camera=CAMERA, colors=colors, materials=materials,
+                        **options)
+    np.testing.assert_array_equal(got, expected)
+    # Glass is not what Lambertian spheres give: the materials were used.
+    assert not np.array_equal(
+        got, sphray.render((centers, radii), camera=CAMERA, colors=colors, **options))
+    # One material for every sphere.
+    one = sphray.render((centers, radii), camera=CAMERA, colors=colors, materials=MATERIALS[1],
+                        **options)
+    every = sphray.render((centers, radii), camera=CAMERA, colors=colors,
+                          materials=[MATERIALS[1]] * 12, **options)
+    np.testing.assert_array_equal(one, every)
+    with pytest.raises(ValueError, match="materials: expected one, or one per sphere"):
+        sphray.render((centers, radii), materials=MATERIALS[:2])
+    with pytest.raises(ValueError, match="fuzz"):
+        sphray.render((centers, radii), materials={"type": "metal", "fuzz": 2})
 
 
 @pytest.mark.parametrize("mode", ["normals", "shaded", "path"])
