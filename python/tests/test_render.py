@@ -1,6 +1,7 @@
 """pinhole_rays and render against numpy references of the book's camera and shading."""
 
 import json
+import time
 
 import numpy as np
 import pytest
@@ -151,3 +152,13 @@ def test_render_refuses_bad_colors_and_cameras(rng):
         sphray.render("three", colors=colors)
     with pytest.raises(ValueError, match="camera"):
         sphray.render("three", camera={"lookfrom": [0, 0, 0], "lookat": [0, 0, 0]})
+
+
+def test_render_time_limit_reaches_the_path_tracer():
+    with pytest.raises(ValueError, match="time limit"):
+        sphray.render("three", mode="path", time_limit=-1.0)
+    # 60,000 samples a pixel would take minutes; the limit stops starting samples after 0.3 s.
+    start = time.monotonic()
+    image = sphray.render("three", mode="path", width=64, height=36, spp=60000, time_limit=0.3)
+    assert image.shape == (36, 64, 3)
+    assert time.monotonic() - start < 30.0
