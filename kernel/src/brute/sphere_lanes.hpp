@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include <xsimd/xsimd.hpp>
 
@@ -65,8 +66,17 @@ struct SphereLanes {
   SPHRAY_FORCE_INLINE static auto valid_line(const T& ox, const T& oy, const T& oz, const T& dx,
                                              const T& dy, const T& dz, const T& tmin, const T& tmax,
                                              const T& a) {
-    return finite(ox) & finite(oy) & finite(oz) & finite(dx) & finite(dy) & finite(dz) &
-           (tmin < tmax) & (a >= T(0x1p-126f)) & finite(a);
+    return all_of(finite(ox), finite(oy), finite(oz), finite(dx), finite(dy), finite(dz),
+                  tmin < tmax, a >= T(0x1p-126f), finite(a));
+  }
+  // Whether every truth value holds (bools), or in which lanes every mask does (Masks).
+  template <class... M>
+  SPHRAY_FORCE_INLINE static auto all_of(const M&... m) {
+    if constexpr ((std::is_same_v<M, bool> && ...)) {
+      return (m && ...);
+    } else {
+      return (m & ...);
+    }
   }
 
   // False for the rays the contract says miss everything (valid_line, and a mask of 0).
