@@ -1015,10 +1015,12 @@ def ckdtree_section(data):
                      f"{r['sphray_build_s']:.3f} s", f"{r['ckdtree_build_s']:.3f} s"])
     out += [table(header, body), "",
             "\"Agree\" counts the points whose lists are equal and the pairs both found: they differ only",
-            "where a distance equals the radius exactly (cKDTree counts it in, sphray out). Each",
-            "sphray query walks the tree once per ball, in the Morton order of the balls so that",
-            "neighbouring queries find the nodes in the caches; `query_pairs` walks two trees against",
-            "each other, which is why the pairs gain less."]
+            "where a distance equals the radius exactly (cKDTree counts it in, sphray out).",
+            "`overlaps` walks the tree once per ball, in the Morton order of the balls so that",
+            "neighbouring queries find the nodes in the caches. `overlapping_pairs` walks the tree",
+            "once per leaf, with the leaf's box, and tests the leaves it meets against it a leaf of",
+            "spheres in the SIMD lanes at a time: each pair is found once, by the earlier of its two",
+            "leaves (docs/queries.md, \"Overlapping pairs\")."]
     return "\n".join(out)
 
 

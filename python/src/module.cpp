@@ -160,9 +160,9 @@ overlaps ball i when |c_j - centre_i| < r_j + radius_i, as overlapping() decides
 
 constexpr const char* kOverlappingPairsDoc = R"doc(overlapping_pairs() -> (P, 2) uint32
 
-Every pair of the scene's own spheres that overlap: rows (i, j), i < j, where sphere j overlaps
-the ball of sphere i (overlapping(centers[i], radii[i])), sorted by i then j. scipy's
-cKDTree.query_pairs for spheres of any radii.)doc";
+Every pair of the scene's own valid spheres that overlap: rows (i, j), i < j, where sphere j
+overlaps the ball of sphere i (overlapping(centers[i], radii[i])), sorted by i then j, on all
+cores with the GIL released. scipy's cKDTree.query_pairs for spheres of any radii.)doc";
 
 constexpr const char* kRefitDoc = R"doc(refit(centers, radii, masks=None)
 

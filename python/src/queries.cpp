@@ -6,17 +6,18 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
 #include "arrays.hpp"
 #include "ray_batches.hpp"
 #include "scene.hpp"
+#include "storage/morton_order.hpp"
 
 namespace sphray::python {
 
@@ -172,59 +173,21 @@ std::size_t append_ids(std::vector<std::uint32_t>& ids, const Query& query) {
   return total;
 }
 
-// x's 10 bits spread to every third bit: one axis of a 30-bit Morton code.
-std::uint32_t spread_bits(std::uint32_t x) {
-  x = (x | (x << 16)) & 0x030000FFu;
-  x = (x | (x << 8)) & 0x0300F00Fu;
-  x = (x | (x << 4)) & 0x030C30C3u;
-  return (x | (x << 2)) & 0x09249249u;
-}
-
-// The balls 0..n-1 in Morton order of their centres (centre(i) -> Vec3) in the box of them all:
-// neighbouring queries then walk the same nodes of the tree, which stay in the caches, where
-// queries in the caller's order (random, for particles) wait on memory at nearly every node.
-// The order changes no answer. Centres that are not finite go first.
+// The balls 0..n-1 in Morton order of their centres (centre(i) -> Vec3): neighbouring queries
+// then walk the same nodes of the tree, which stay in the caches, where queries in the caller's
+// order (random, for particles) wait on memory at nearly every node. The order changes no
+// answer.
 template <class Centre>
 std::vector<std::uint32_t> spatial_order(std::size_t n, const Centre& centre) {
-  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 c = centre(i);
-    if (!isfinite(c)) continue;
-    for (int axis = 0; axis < 3; ++axis) {
-      lo[axis] = std::min(lo[axis], c[axis]);
-      hi[axis] = std::max(hi[axis], c[axis]);
-    }
-  }
-  std::vector<std::uint64_t> keyed(n);  // Morton code above, index below
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& r) {
-    for (std::size_t i = r.begin(); i < r.end(); ++i) {
-      const Vec3 c = centre(i);
-      std::uint32_t code = 0;
-      if (isfinite(c)) {
-        for (int axis = 0; axis < 3; ++axis) {
-          const float extent = hi[axis] - lo[axis];
-          const float unit = extent > 0.0f ? (c[axis] - lo[axis]) / extent : 0.0f;
-          const auto cell = static_cast<std::uint32_t>(std::min(unit * 1024.0f, 1023.0f));
-          code |= spread_bits(cell) << axis;
-        }
-      }
-      keyed[i] = std::uint64_t{code} << 32 | i;
-    }
-  });
-  tbb::parallel_sort(keyed.begin(), keyed.end());
-  std::vector<std::uint32_t> order(n);
-  for (std::size_t s = 0; s < n; ++s)
-    order[s] = static_cast<std::uint32_t>(keyed[s]);
-  return order;
+  return detail::morton_order(n, centre,
+                              [](auto begin, auto end) { tbb::parallel_sort(begin, end); });
 }
 
 // Lists made in the order `order` (lists[k] the ids of its positions in chunk k, counts[i] the
-// number of ball i) to the sparse row layout in the balls' own order: offsets[0..n] and
-// emit(out_row, i, id) for each id of each ball, out_row its index in the result.
-template <class Emit>
+// number of ball i) to the sparse row layout in the balls' own order: offsets[0..n] and ids.
 void scatter_lists(const std::vector<std::vector<std::uint32_t>>& lists,
                    const std::vector<std::uint32_t>& order, std::int64_t* offsets,
-                   const Emit& emit) {
+                   std::uint32_t* ids) {
   const std::size_t n = order.size();
   std::int64_t sum = 0;  // offsets[1..n] hold the counts: shift them into running sums
   for (std::size_t i = 0; i <= n; ++i) {
@@ -237,94 +200,79 @@ void scatter_lists(const std::vector<std::vector<std::uint32_t>>& lists,
     for (std::size_t s = k * kChunkRays; s < std::min(n, (k + 1) * kChunkRays); ++s) {
       const std::uint32_t i = order[s];
       for (std::int64_t row = offsets[i]; row < offsets[i + 1]; ++row)
-        emit(row, i, *id++);
+        ids[row] = *id++;
     }
   }
 }
 
 }  // namespace
 
-template <class Ball, class Keep>
-std::vector<std::vector<std::uint32_t>> Scene::overlap_lists(
-    const std::vector<std::uint32_t>& order, const Ball& ball, const Keep& keep,
-    std::int64_t* counts) const {
-  std::vector<std::vector<std::uint32_t>> lists((order.size() + kChunkRays - 1) / kChunkRays);
-  for_each_chunk(order.size(), [&](std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t>& ids = lists[begin / kChunkRays];
-    for (std::size_t s = begin; s < end; ++s) {
-      const std::uint32_t i = order[s];
-      const auto [centre, radius] = ball(i);
-      const std::size_t at = ids.size();
-      append_ids(ids, [&](std::span<std::uint32_t> out) {
-        return answer(
-            [&](const auto& spheres) { return sphray::overlapping(spheres, centre, radius, out); });
-      });
-      const auto kept = std::remove_if(ids.begin() + static_cast<std::ptrdiff_t>(at), ids.end(),
-                                       [&](std::uint32_t id) { return !keep(i, id); });
-      ids.erase(kept, ids.end());
-      counts[i] = static_cast<std::int64_t>(ids.size() - at);
-    }
-  });
-  return lists;
-}
-
 py::tuple Scene::overlaps(const py::handle& centers, const py::handle& radii) const {
   const Vec3Rows c("centers", centers);
   const FloatPerRow r("radii", radii, c.leading_shape());
   const std::size_t n = c.size();
+  // Morton order numbers the balls in 32 bits.
+  if (n > std::size_t{0xffffffff})
+    throw py::value_error("centers: expected at most 2**32 - 1 balls, got " + std::to_string(n));
   auto offsets = new_array<std::int64_t>({static_cast<py::ssize_t>(n + 1)});
-  std::int64_t* off = offsets.mutable_data();
+  std::int64_t* counts = offsets.mutable_data() + 1;
   std::vector<std::uint32_t> order;
-  std::vector<std::vector<std::uint32_t>> lists;
+  // lists[k]: the ids found for the balls of chunk k of the order, ball after ball.
+  std::vector<std::vector<std::uint32_t>> lists((n + kChunkRays - 1) / kChunkRays);
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
     order = spatial_order(n, [&](std::size_t i) { return c[i]; });
-    lists = overlap_lists(
-        order,
-        [&](std::size_t i) {
-          return std::pair{c[i], r[i]};
-        },
-        [](std::size_t, std::uint32_t) { return true; }, off + 1);
+    for_each_chunk(n, [&](std::size_t begin, std::size_t end) {
+      std::vector<std::uint32_t>& ids = lists[begin / kChunkRays];
+      for (std::size_t s = begin; s < end; ++s) {
+        const std::uint32_t i = order[s];
+        counts[i] = static_cast<std::int64_t>(append_ids(ids, [&](std::span<std::uint32_t> out) {
+          return answer(
+              [&](const auto& spheres) { return sphray::overlapping(spheres, c[i], r[i], out); });
+        }));
+      }
+    });
   }
   std::int64_t total = 0;
   for (const auto& list : lists)
     total += static_cast<std::int64_t>(list.size());
   auto ids = new_array<std::uint32_t>({static_cast<py::ssize_t>(total)});
-  std::uint32_t* out = ids.mutable_data();
-  scatter_lists(lists, order, off,
-                [&](std::int64_t row, std::uint32_t, std::uint32_t id) { out[row] = id; });
+  scatter_lists(lists, order, offsets.mutable_data(), ids.mutable_data());
   return py::make_tuple(offsets, ids);
 }
 
 py::array Scene::overlapping_pairs() const {
-  const std::size_t n = spheres_.size();
-  std::vector<std::int64_t> offsets(n + 1);
-  std::vector<std::uint32_t> order;
-  std::vector<std::vector<std::uint32_t>> lists;
+  std::vector<std::uint64_t> keys;  // first << 32 | second: sorted, by first then second
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
-    const SphereView v = spheres_.view();
-    const auto centre = [&](std::size_t i) { return Vec3{v.cx[i], v.cy[i], v.cz[i]}; };
-    order = spatial_order(n, centre);
-    lists = overlap_lists(
-        order,
-        [&](std::size_t i) {
-          return std::pair{centre(i), v.radius[i]};
-        },
-        [](std::size_t i, std::uint32_t j) { return j > i; }, offsets.data() + 1);
+    std::optional<SphereBVH> own;  // a scene without a tree (accel='brute') gets one here
+    const SphereBVH& tree = bvh_ ? *bvh_ : own.emplace(spheres_.view());
+    // Shares of the tree's leaves of about kChunkRays spheres, each into a list of its own.
+    const std::size_t parts = std::max<std::size_t>(1, size() / kChunkRays);
+    std::vector<std::vector<IdPair>> found(parts);
+    for_each_piece(parts, size() >= kParallelFromRays, [&](std::size_t part) {
+      sphray::overlapping_pairs(tree, found[part], part, parts);
+    });
+    std::vector<std::size_t> at(parts + 1, 0);
+    for (std::size_t part = 0; part < parts; ++part)
+      at[part + 1] = at[part] + found[part].size();
+    keys.resize(at[parts]);
+    for_each_piece(parts, size() >= kParallelFromRays, [&](std::size_t part) {
+      std::uint64_t* key = keys.data() + at[part];
+      for (const IdPair pair : found[part])
+        *key++ = std::uint64_t{pair.first} << 32 | pair.second;
+      std::vector<IdPair>().swap(found[part]);
+    });
+    tbb::parallel_sort(keys.begin(), keys.end());
   }
-  std::int64_t total = 0;
-  for (const auto& list : lists)
-    total += static_cast<std::int64_t>(list.size());
-  auto pairs = new_array<std::uint32_t>({static_cast<py::ssize_t>(total)}, {2});
+  auto pairs = new_array<std::uint32_t>({static_cast<py::ssize_t>(keys.size())}, {2});
   std::uint32_t* out = pairs.mutable_data();
-  scatter_lists(lists, order, offsets.data(),
-                [&](std::int64_t row, std::uint32_t i, std::uint32_t j) {
-                  out[2 * row] = i;
-                  out[2 * row + 1] = j;
-                });
+  for (const std::uint64_t key : keys) {
+    *out++ = static_cast<std::uint32_t>(key >> 32);
+    *out++ = static_cast<std::uint32_t>(key);
+  }
   return pairs;
 }
 

@@ -22,28 +22,36 @@ inline constexpr std::size_t kChunkRays = 1024;
 /// than the trace.
 inline constexpr std::size_t kParallelFromRays = 4 * kChunkRays;
 
-/// Calls chunk(begin, end) over [0, count) in pieces of kChunkRays (the last may be shorter),
-/// piece k covering [k kChunkRays, (k + 1) kChunkRays), in parallel for large counts. chunk
-/// must be safe to call from several threads at once on disjoint ranges. Throws Interrupted
-/// when a signal handler raised meanwhile (to be called without the GIL).
-template <typename Chunk>
-void for_each_chunk(std::size_t count, const Chunk& chunk) {
+/// Calls piece(k) for k in [0, pieces), on oneTBB's workers when `parallel`, else on the calling
+/// thread. piece must be safe to call from several threads at once for different k. Throws
+/// Interrupted when a signal handler raised meanwhile (to be called without the GIL).
+template <typename Piece>
+void for_each_piece(std::size_t pieces, bool parallel, const Piece& piece) {
   Interruption interruption;
   const auto run = [&](std::size_t k) {
-    chunk(k * kChunkRays, std::min(count, (k + 1) * kChunkRays));
+    piece(k);
     interruption.check();
   };
-  const std::size_t chunks = (count + kChunkRays - 1) / kChunkRays;
-  if (count < kParallelFromRays) {
-    for (std::size_t k = 0; k < chunks; ++k)
+  if (!parallel) {
+    for (std::size_t k = 0; k < pieces; ++k)
       run(k);
     return;
   }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pieces),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t k = r.begin(); k < r.end(); ++k)
                         run(k);
                     });
+}
+
+/// Calls chunk(begin, end) over [0, count) in pieces of kChunkRays (the last may be shorter),
+/// piece k covering [k kChunkRays, (k + 1) kChunkRays), in parallel for large counts, as
+/// for_each_piece.
+template <typename Chunk>
+void for_each_chunk(std::size_t count, const Chunk& chunk) {
+  for_each_piece(
+      (count + kChunkRays - 1) / kChunkRays, count >= kParallelFromRays,
+      [&](std::size_t k) { chunk(k * kChunkRays, std::min(count, (k + 1) * kChunkRays)); });
 }
 
 /// The directions of a batch, checked against its origins' shape.

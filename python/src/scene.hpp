@@ -62,8 +62,8 @@ class Scene {
   /// The same for many balls at once, in the sparse row layout: (offsets, ids), the ids of
   /// ball i in ids[offsets[i]:offsets[i + 1]], ascending.
   py::tuple overlaps(const py::handle& centers, const py::handle& radii) const;
-  /// Every pair (i, j), i < j, of the scene's spheres where j overlaps the ball of sphere i:
-  /// (P, 2) uint32, by i then j.
+  /// Every pair (i, j), i < j, of the scene's spheres where j overlaps the ball of sphere i
+  /// (sphray::overlapping_pairs): (P, 2) uint32, by i then j.
   py::array overlapping_pairs() const;
 
   /// New centres and radii for the same spheres (same count); masks None keeps their masks.
@@ -83,14 +83,6 @@ class Scene {
   decltype(auto) answer(Query&& query) const {
     return bvh_ ? query(*bvh_) : query(spheres_.view());
   }
-  // For the balls ball(i) -> {centre, radius}, taken in the order `order` (a permutation of
-  // their indices), the ids of the spheres overlapping each that keep(i, id) accepts,
-  // ascending: lists[k] holds those of the positions of for_each_chunk's chunk k, counts[i]
-  // ball i's number. Called without the GIL, the lock held.
-  template <class Ball, class Keep>
-  std::vector<std::vector<std::uint32_t>> overlap_lists(const std::vector<std::uint32_t>& order,
-                                                        const Ball& ball, const Keep& keep,
-                                                        std::int64_t* counts) const;
   // Shared by queries, exclusive for refit. Never waited on while holding the GIL.
   mutable std::shared_mutex mutex_;
   SphereArrays spheres_;

@@ -85,3 +85,22 @@ def test_overlapping_pairs_against_the_reference(rng, accel):
     rows = np.repeat(np.arange(len(centers)), np.diff(offsets))
     keep = ids > rows
     np.testing.assert_array_equal(np.column_stack([rows[keep], ids[keep]]), pairs)
+
+
+@pytest.mark.parametrize("accel", ACCELS)
+def test_overlapping_pairs_leave_out_invalid_spheres(accel):
+    # Sphere 0 holds the centres of all the others; only 1 and 2 are valid spheres (a radius
+    # of 0 or below, or a NaN centre, makes a sphere no ray or query ever finds).
+    centers = np.float32([[0, 0, 0], [0.5, 0, 0], [0.3, 0.2, 0], [0, 0, 0.5], [np.nan, 0, 0],
+                          [0.1, 0.1, 0]])
+    radii = np.float32([2, 0.25, 0.25, 0, 1, -1])
+    pairs = sphray.Scene(centers, radii, accel=accel).overlapping_pairs()
+    assert pairs.tolist() == [[0, 1], [0, 2], [1, 2]]
+
+
+def test_overlaps_refuses_more_balls_than_32_bits_number():
+    scene = sphray.Scene(np.zeros((1, 3), np.float32), np.ones(1, np.float32))
+    # A broadcast view: 2**32 rows, no memory.
+    balls = np.broadcast_to(np.zeros(3, np.float32), (2**32, 3))
+    with pytest.raises(ValueError, match="2\\*\\*32 - 1"):
+        scene.overlaps(balls, 0.5)

@@ -275,5 +275,119 @@ TEST(PointQueries, BatchFormsAnswerEachPointAsTheSingleQuery) {
   EXPECT_THROW(inside(v, points, std::span(in.get(), 3)), std::length_error);
 }
 
+// The contract's pairs, one overlapping() query per valid sphere, higher ids kept; sorted.
+std::vector<IdPair> reference_pairs(SphereView v) {
+  std::vector<IdPair> pairs;
+  std::vector<std::uint32_t> ids(v.count);
+  for (std::size_t i = 0; i < v.count; ++i) {
+    if (!valid(v, i)) continue;
+    const std::size_t total = scalar::overlapping(v, {v.cx[i], v.cy[i], v.cz[i]}, v.radius[i], ids);
+    for (std::size_t k = 0; k < total; ++k)
+      if (ids[k] > i) pairs.push_back({static_cast<std::uint32_t>(i), ids[k]});
+  }
+  return pairs;
+}
+
+// All the pairs of a tree, found in `parts` shares and sorted.
+std::vector<IdPair> pairs_in_parts(const SphereBVH& tree, std::size_t parts) {
+  std::vector<IdPair> pairs;
+  for (std::size_t part = 0; part < parts; ++part)
+    overlapping_pairs(tree, pairs, part, parts);
+  std::sort(pairs.begin(), pairs.end(), [](IdPair a, IdPair b) {
+    return a.first != b.first ? a.first < b.first : a.second < b.second;
+  });
+  return pairs;
+}
+
+// Where |c_i - c_j| - r_i - r_j is clearly apart from 0 in long double, the pair is listed
+// exactly when it is negative; every tree on every kernel, in one share or several, lists the
+// reference's pairs, each once.
+void check_pairs(SphereView v, const std::vector<SphereBVH>& trees,
+                 const std::vector<const EntryTable*>& kernels, std::size_t& decided) {
+  const std::vector<IdPair> want = reference_pairs(v);
+  for (std::size_t i = 0; i < v.count; ++i) {
+    if (!valid(v, i)) continue;
+    const Vec3 c{v.cx[i], v.cy[i], v.cz[i]};
+    for (std::size_t j = i + 1; j < v.count; ++j) {
+      if (!valid(v, j)) continue;
+      const L gap = distance(v, j, c) - v.radius[i];
+      if (std::fabs(gap) <= slack(v, j, c) + 1e-4L * v.radius[i]) continue;
+      ++decided;
+      const IdPair pair{static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)};
+      ASSERT_EQ(std::binary_search(want.begin(), want.end(), pair,
+                                   [](IdPair a, IdPair b) {
+                                     return a.first != b.first ? a.first < b.first
+                                                               : a.second < b.second;
+                                   }),
+                gap < 0)
+          << v.count << " spheres, pair " << i << " " << j;
+    }
+  }
+  for (std::size_t k = 0; k < kernels.size(); ++k)
+    for (const std::size_t parts : {1u, 3u, 64u})
+      ASSERT_EQ(pairs_in_parts(trees[k], parts), want)
+          << test::name_of(kernels[k]) << ", " << v.count << " spheres, " << parts << " parts";
+}
+
+TEST(PointQueries, OverlappingPairsAreTheReferencesPairsEachOnce) {
+  std::mt19937 rng(162);
+  const auto kernels = test::runnable_kernels();
+  std::size_t scenes = 0, decided = 0, pairs = 0;
+  test::for_each_query_scene(rng, kernels,
+                             [&](SphereView v, const std::vector<SphereBVH>& trees, std::size_t n) {
+                               // Nested and identical scenes of 3000 spheres have n^2 / 2 pairs:
+                               // the next test walks trees that deep.
+                               if (n >= 3000) return;
+                               ++scenes;
+                               pairs += reference_pairs(v).size();
+                               check_pairs(v, trees, kernels, decided);
+                             });
+  std::cout << "[ pairs ] " << pairs << " pairs in " << scenes << " scenes alike on every tree; "
+            << decided << " pairs decided against long double\n";
+  EXPECT_GT(pairs, 1000u);
+  EXPECT_GT(decided, 50000u);
+}
+
+// Spheres that touch to within a few units in the last place, far from the origin and near it:
+// float's test decides each pair either way, and the walk's margin must not lose one that the
+// test keeps.
+TEST(PointQueries, OverlappingPairsKeepTouchingSpheresAsTheTestDecides) {
+  std::mt19937 rng(163);
+  const auto kernels = test::runnable_kernels();
+  std::size_t listed = 0;
+  for (const float offset : {0.0f, 1e4f, -3e6f}) {
+    SphereSoA s;
+    for (int k = 0; k < 1500; ++k) {
+      const Vec3 c = Vec3{offset, offset, offset} + test::random_in_box(rng, 40.0f);
+      const float r = test::uniform(rng, 0.01f, 1.0f), q = test::uniform(rng, 0.01f, 1.0f);
+      // The second sphere r + q from the first, nudged by up to 4 units in the last place.
+      const float nudge = 1.0f + static_cast<float>(static_cast<int>(rng() % 9) - 4) * 0x1p-23f;
+      s.add(c, r);
+      // Along an axis the two boxes only touch too; along another direction they overlap.
+      const Vec3 axes[] = {{1, 0, 0}, {0, -1, 0}, {0, 0, 1}};
+      const Vec3 along = k % 2 == 0 ? axes[k / 2 % 3] : test::unit_vector(rng);
+      s.add(c + (r + q) * nudge * along, q);
+    }
+    std::vector<SphereBVH> trees;
+    for (const EntryTable* k : kernels)
+      trees.emplace_back(s.view(), k->isa);
+    const std::vector<IdPair> want = reference_pairs(s.view());
+    listed += want.size();
+    for (std::size_t k = 0; k < kernels.size(); ++k)
+      ASSERT_EQ(pairs_in_parts(trees[k], 4), want) << test::name_of(kernels[k]) << " " << offset;
+  }
+  EXPECT_GT(listed, 1000u);  // about half of the touching pairs overlap in float
+}
+
+TEST(PointQueries, OverlappingPairsRefuseAPartBeyondTheParts) {
+  SphereSoA s;
+  s.add({0, 0, 0}, 1);
+  const SphereBVH tree(s.view());
+  std::vector<IdPair> pairs;
+  EXPECT_THROW(overlapping_pairs(tree, pairs, 2, 2), std::invalid_argument);
+  EXPECT_THROW(overlapping_pairs(tree, pairs, 0, 0), std::invalid_argument);
+  EXPECT_TRUE(pairs.empty());
+}
+
 }  // namespace
 }  // namespace sphray

@@ -12,6 +12,8 @@
 // - inside: whether any d_i < 0 (the open balls).
 // - overlapping: the ids of the spheres with d_i < radius, ascending: the first out.size() of
 //   them into out; returns how many there are in all. Touching is not overlapping.
+// - overlapping_pairs: every pair i < j of spheres with j among overlapping(c_i, r_i) (the lower
+//   id's sphere as the ball), each pair once.
 // - Spheres the ray queries never hit (a NaN or infinite centre, a radius outside
 //   [2^-63, 2^64): query.hpp) are never found. A
 //   NaN or infinite point, a NaN max_distance, or a radius that is negative or NaN gives the
@@ -22,6 +24,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <vector>
 
 #include "sphray/api.h"
 #include "sphray/bvh.hpp"
@@ -54,6 +57,21 @@ SPHRAY_API Nearest nearest(const SphereBVH& bvh, Vec3 point, float max_distance 
 SPHRAY_API bool inside(const SphereBVH& bvh, Vec3 point);
 SPHRAY_API std::size_t overlapping(const SphereBVH& bvh, Vec3 centre, float radius,
                                    std::span<std::uint32_t> out);
+
+/// Two overlapping spheres' ids, first < second.
+struct IdPair {
+  std::uint32_t first, second;
+  friend bool operator==(IdPair, IdPair) = default;
+};
+
+/// The pairs of the tree's spheres that overlap (a simulation's broad phase), appended to out
+/// in no particular order: exactly the pairs {i, j}, i < j, with j among overlapping(bvh, c_i,
+/// r_i), each once. The work comes in `parts` shares of the tree: part k of them finds its
+/// share, and parts 0 to parts - 1 together find every pair once, so that callers may run the
+/// shares on threads of their own (each into its own out) and stop between them. Throws
+/// std::invalid_argument unless part < parts.
+SPHRAY_API void overlapping_pairs(const SphereBVH& bvh, std::vector<IdPair>& out,
+                                  std::size_t part = 0, std::size_t parts = 1);
 
 /// Batch forms, one answer per point: out[i] = nearest(spheres, points[i], max_distance) and
 /// inside(spheres, points[i]). Throw std::length_error unless out.size() == points.size().

@@ -186,5 +186,6 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              &scalar_nearest,
                                              &scalar_overlapping,
                                              &scalar_bvh_nearest,
-                                             &scalar_bvh_overlapping};
+                                             &scalar_bvh_overlapping,
+                                             &scalar_bvh_overlapping_pairs};
 }  // namespace sphray::detail

@@ -12,6 +12,7 @@
 #include "bvh/traverse.hpp"
 #include "dispatch/entry_table.hpp"
 #include "dispatch/query_plan.hpp"
+#include "point/overlap_pairs.hpp"
 #include "point/point_queries.hpp"
 #include "simd/isa_namespace.hpp"
 #include "sphray/query.hpp"
@@ -129,6 +130,10 @@ struct EntryPoints {
                                      IdCollector& out) {
     return Points::overlapping(bvh, centre, radius, out);
   }
+  static void bvh_overlapping_pairs(const BvhData& bvh, std::size_t part, std::size_t parts,
+                                    std::vector<IdPair>& out) {
+    OverlapPairs<A>::find(bvh, part, parts, out);
+  }
 };
 
 template <class A>
@@ -154,7 +159,8 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::nearest,
           &E::overlapping,
           &E::bvh_nearest,
-          &E::bvh_overlapping};
+          &E::bvh_overlapping,
+          &E::bvh_overlapping_pairs};
 }
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

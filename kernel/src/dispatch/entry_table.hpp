@@ -4,8 +4,10 @@
 #pragma once
 
 #include <cstddef>
+#include <vector>
 
 #include "sphray/isa.hpp"
+#include "sphray/point_queries.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/ray_arrays.hpp"
 #include "sphray/spheres.hpp"
@@ -58,6 +60,9 @@ struct EntryTable {
   /// slot: where the nearest sphere sits in the tree's arrays (bvh.spheres).
   Hit (*bvh_nearest)(const BvhData& bvh, Vec3 point, float max_distance, std::size_t* slot);
   std::size_t (*bvh_overlapping)(const BvhData& bvh, Vec3 centre, float radius, IdCollector& out);
+  /// Part `part` of `parts` of the tree's overlapping pairs (overlapping_pairs()), appended.
+  void (*bvh_overlapping_pairs)(const BvhData& bvh, std::size_t part, std::size_t parts,
+                                std::vector<IdPair>& out);
 };
 
 /// The kernel for isa, or nullptr if this build lacks it or this machine cannot run it.

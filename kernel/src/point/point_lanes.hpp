@@ -29,15 +29,26 @@ struct PointLanes {
 
   static Point setup(Vec3 p) { return {Floats(p.x), Floats(p.y), Floats(p.z)}; }
 
-  // Per lane: the signed distance, and whether the sphere takes part at all (the contract's
-  // valid spheres: a finite centre, kMinRadius <= r < kRadiusLimit, which also refuses a NaN
-  // radius; x - x is 0 exactly for finite x, NaN otherwise). Padding lanes have radius 0.
-  static Floats signed_distance(const Point& p, const Spheres& sp, Mask& valid) {
-    const Floats gx = sp.cx - p.x, gy = sp.cy - p.y, gz = sp.cz - p.z;
+  // Per lane: whether the sphere takes part at all (the contract's valid spheres: a finite
+  // centre, kMinRadius <= r < kRadiusLimit, which also refuses a NaN radius; x - x is 0 exactly
+  // for finite x, NaN otherwise). Padding lanes have radius 0.
+  static Mask valid(const Spheres& sp) {
     const Floats zero(0.0f);
-    valid = (sp.r >= Floats(kMinRadius)) & (sp.r < Floats(kRadiusLimit)) &
-            (((sp.cx - sp.cx) + (sp.cy - sp.cy)) + (sp.cz - sp.cz) == zero);
-    return xsimd::sqrt(gx * gx + (gy * gy + gz * gz)) - sp.r;
+    return (sp.r >= Floats(kMinRadius)) & (sp.r < Floats(kRadiusLimit)) &
+           (((sp.cx - sp.cx) + (sp.cy - sp.cy)) + (sp.cz - sp.cz) == zero);
+  }
+
+  // Per lane: |p - c|, from c - p. Swapping p and c gives the same bits (IEEE negation is
+  // exact and the squares drop the sign), which the pair query relies on.
+  static Floats distance(const Point& p, const Spheres& sp) {
+    const Floats gx = sp.cx - p.x, gy = sp.cy - p.y, gz = sp.cz - p.z;
+    return xsimd::sqrt(gx * gx + (gy * gy + gz * gz));
+  }
+
+  // Per lane: the signed distance |p - c| - r, and whether the sphere is valid.
+  static Floats signed_distance(const Point& p, const Spheres& sp, Mask& valid_lanes) {
+    valid_lanes = valid(sp);
+    return distance(p, sp) - sp.r;
   }
 };
 

@@ -88,6 +88,14 @@ std::size_t overlapping(const SphereBVH& bvh, Vec3 centre, float radius,
   });
 }
 
+void overlapping_pairs(const SphereBVH& bvh, std::vector<IdPair>& out, std::size_t part,
+                       std::size_t parts) {
+  if (!(part < parts))
+    throw std::invalid_argument("sphray::overlapping_pairs: expected part < parts");
+  using A = detail::BvhAccess;
+  A::entries(bvh).bvh_overlapping_pairs(A::data(bvh), part, parts, out);
+}
+
 void nearest(SphereView spheres, std::span<const Vec3> points, std::span<Nearest> out,
              float max_distance) {
   check_batch(points.size(), out.size());

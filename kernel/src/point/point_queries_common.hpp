@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <vector>
 
 #include "sphray/point_queries.hpp"
 
@@ -20,5 +21,7 @@ Hit scalar_nearest(SphereView v, Vec3 point, float max_distance);
 std::size_t scalar_overlapping(SphereView v, Vec3 centre, float radius, IdCollector& out);
 Hit scalar_bvh_nearest(const BvhData& bvh, Vec3 point, float max_distance, std::size_t* slot);
 std::size_t scalar_bvh_overlapping(const BvhData& bvh, Vec3 centre, float radius, IdCollector& out);
+void scalar_bvh_overlapping_pairs(const BvhData& bvh, std::size_t part, std::size_t parts,
+                                  std::vector<IdPair>& out);
 
 }  // namespace sphray::detail

@@ -20,9 +20,13 @@ bool finite(Vec3 p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
 }
 
-float signed_distance(Vec3 p, Vec3 c, float r) {
+float distance(Vec3 p, Vec3 c) {
   const Vec3 g = c - p;
-  return std::sqrt(g.x * g.x + (g.y * g.y + g.z * g.z)) - r;
+  return std::sqrt(g.x * g.x + (g.y * g.y + g.z * g.z));
+}
+
+float signed_distance(Vec3 p, Vec3 c, float r) {
+  return distance(p, c) - r;
 }
 
 // Visits slot i of n with its id: a view's own (ids = nullptr) or a tree's leaf slots.
@@ -99,6 +103,24 @@ Hit scalar_bvh_nearest(const BvhData& bvh, Vec3 point, float, std::size_t* slot)
 std::size_t scalar_bvh_overlapping(const BvhData& bvh, Vec3 centre, float radius,
                                    IdCollector& out) {
   return overlapping_in(bvh.spheres, bvh.ids, centre, radius, out);
+}
+
+// Every pair of valid slots, the share's slots against all later ones: the contract's
+// definition, one pair at a time, with the lower id's sphere as the ball.
+void scalar_bvh_overlapping_pairs(const BvhData& bvh, std::size_t part, std::size_t parts,
+                                  std::vector<IdPair>& out) {
+  const SphereView v = bvh.spheres;
+  const auto centre = [&](std::size_t s) { return Vec3{v.cx[s], v.cy[s], v.cz[s]}; };
+  for (std::size_t s = v.count * part / parts; s < v.count * (part + 1) / parts; ++s) {
+    if (!valid_sphere(centre(s), v.radius[s])) continue;
+    for (std::size_t t = s + 1; t < v.count; ++t) {
+      if (!valid_sphere(centre(t), v.radius[t])) continue;
+      const bool s_lower = bvh.ids[s] < bvh.ids[t];
+      const std::size_t ball = s_lower ? s : t, sphere = s_lower ? t : s;
+      if (signed_distance(centre(ball), centre(sphere), v.radius[sphere]) < v.radius[ball])
+        out.push_back({bvh.ids[ball], bvh.ids[sphere]});
+    }
+  }
 }
 
 }  // namespace detail
