@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "arrays.hpp"
+#include "interruption.hpp"
 #include "ray_batches.hpp"
 #include "sphray/render/renderer.hpp"
 
@@ -17,7 +18,12 @@ Scene::Scene(const py::handle& centers, const py::handle& radii, const std::stri
   if (!how) throw py::value_error("accel: expected 'auto', 'bvh' or 'brute', got '" + accel + "'");
   if (how == Accel::bvh || (how == Accel::automatic && spheres_.size() >= kBvhFromSpheres)) {
     py::gil_scoped_release release;
-    bvh_.emplace(spheres_.view());
+    // A build of millions of spheres takes seconds: Ctrl-C stops it (interruption.hpp).
+    Interruption interruption;
+    bvh_.emplace(spheres_.view(), BvhBuildOptions{}, [&](double) {
+      interruption.check();
+      return true;
+    });
   }
 }
 

@@ -29,6 +29,7 @@ except KeyboardInterrupt:
     print("interrupted after %.2f s" % (time.monotonic() - start), flush=True)
 t, ids = small.intersect(np.float32([[0, 0, 0]]), np.float32([[0, 0, -1]]))
 print("then a query:", int(ids[0]), float(t[0]), flush=True)
+{after}
 """
 
 CASES = {
@@ -43,20 +44,35 @@ CASES = {
         "o = np.broadcast_to(np.float32([0, 0, -5]), (2**22, 3))\n"
         "d = np.broadcast_to(np.float32([0, 0, 1]), (2**22, 3))",
         "big.count_hits(o, d)"),
+    # A tree over 24 million spheres: seconds, not minutes, so the child then times the whole
+    # build as well (below).
+    "build": (
+        "rng = np.random.default_rng(2)\n"
+        "c = rng.random((24_000_000, 3), dtype=np.float32)\n"
+        "r = np.full(24_000_000, 1e-3, np.float32)",
+        "sphray.Scene(c, r)"),
 }
+
+
+WHOLE_CALL = """
+start = time.monotonic()
+{call}
+print("the whole call took %.2f s" % (time.monotonic() - start), flush=True)
+"""
 
 
 @pytest.mark.parametrize("case", CASES)
 def test_ctrl_c_interrupts_a_long_call(case):
     setup, call = CASES[case]
-    code = textwrap.dedent(CHILD).format(setup=setup, call=call)
+    after = WHOLE_CALL.format(call=call) if case == "build" else ""
+    code = textwrap.dedent(CHILD).format(setup=setup, call=call, after=after)
     child = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE,
                              stderr=subprocess.PIPE, text=True)
     try:
         assert child.stdout.readline().strip() == "calling"
         time.sleep(1.0)
         child.send_signal(signal.SIGINT)
-        out, err = child.communicate(timeout=30)
+        out, err = child.communicate(timeout=60)
     finally:
         child.kill()
     assert child.returncode == 0, err[-2000:]
@@ -65,3 +81,7 @@ def test_ctrl_c_interrupts_a_long_call(case):
     assert lines[0].startswith("interrupted after"), out
     assert float(lines[0].split()[2]) < 10.0, out
     assert lines[1] == "then a query: 0 1.0", out
+    if after:
+        # A signal seen only once the call returned would come after the whole call's time.
+        whole = float(lines[2].split()[4])
+        assert float(lines[0].split()[2]) < whole / 2, out

@@ -2,6 +2,7 @@
 // instruction set's tree against the same instruction set's brute-force kernel on large random
 // ray sets; refit against rebuild; the build's independence from the thread count.
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -269,6 +270,41 @@ TEST(Bvh, BuildIsTheSameWhateverTheThreadCount) {
       ASSERT_EQ(a.t, b.t) << kind_name(kind);
     }
   }
+}
+
+// The progress function sees fractions from 0 to 1 ending at 1, changes nothing in the tree,
+// and stops the build when it says so or throws; the next build is unaffected.
+TEST(Bvh, ProgressReportsAndCancelsTheBuild) {
+  std::mt19937 rng(10);
+  const std::size_t n = std::max<std::size_t>(test::scaled(100000), 8000);
+  const test::LooseSpheres scene = make_scene(Kind::uniform, n, rng);
+  const SphereBVH plain(scene.view(), BvhBuildOptions{0, 1024});
+
+  std::atomic<int> calls{0};
+  std::atomic<bool> in_range{true};
+  std::atomic<double> last{-1.0};
+  const BuildProgress watch = [&](double done) {
+    ++calls;
+    if (!(done >= 0.0 && done <= 1.0)) in_range = false;
+    last = done;
+    return true;
+  };
+  const SphereBVH seen(scene.view(), BvhBuildOptions{0, 1024}, watch);
+  EXPECT_TRUE(same_tree(plain, seen));
+  EXPECT_GT(calls.load(), 4);
+  EXPECT_TRUE(in_range.load());
+  EXPECT_EQ(last.load(), 1.0);  // the last call, after the build
+
+  std::atomic<int> asked{0};
+  const BuildProgress stop = [&](double) { return ++asked < 3; };
+  EXPECT_THROW(SphereBVH(scene.view(), BvhBuildOptions{0, 1024}, stop), BuildCancelled);
+  EXPECT_GE(asked.load(), 3);
+
+  struct Mine {};
+  const BuildProgress throws = [](double) -> bool { throw Mine{}; };
+  EXPECT_THROW(SphereBVH(scene.view(), BvhBuildOptions{0, 1024}, throws), Mine);
+
+  EXPECT_TRUE(same_tree(plain, SphereBVH(scene.view(), BvhBuildOptions{0, 1024})));
 }
 
 // The stream may walk scattered rays in turns on a tree larger than the caches (over 4 MB:

@@ -17,8 +17,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
+#include <stdexcept>
 
 #include "sphray/api.h"
 #include "sphray/isa.hpp"
@@ -44,6 +46,18 @@ struct BvhBuildOptions {
   std::size_t parallel_min = 16384;
 };
 
+/// Called now and then during a build, from any of its threads (several may call at once), with
+/// the fraction of the spheres placed in the tree so far, 0 to 1, last with 1 once it is built
+/// (as Embree's progress monitor). Returning false stops the build: the constructor throws
+/// BuildCancelled. An exception it throws leaves the constructor the same way.
+using BuildProgress = std::function<bool(double done)>;
+
+/// What a SphereBVH constructor throws when its BuildProgress returned false.
+class SPHRAY_API BuildCancelled : public std::runtime_error {
+ public:
+  BuildCancelled();
+};
+
 class SPHRAY_API SphereBVH {
  public:
   /// An empty tree (no spheres), for the active instruction set.
@@ -57,6 +71,9 @@ class SPHRAY_API SphereBVH {
   /// Builds over spheres for isa. Throws std::invalid_argument if find_entries(isa) is null or
   /// isa is not one of the Isa enumerators.
   SphereBVH(SphereView spheres, Isa isa, BvhBuildOptions options = {});
+  /// Builds over spheres for the active instruction set, reporting to progress, which may stop
+  /// the build (a Ctrl-C, a deadline). The tree is the same as without it.
+  SphereBVH(SphereView spheres, BvhBuildOptions options, const BuildProgress& progress);
 
   /// A moved-from tree is the empty tree of the same instruction set: size() 0, every query a
   /// miss, refit() with an empty view only.

@@ -118,13 +118,14 @@ std::size_t flat_up_to(std::size_t width) {
   return width * std::min(width, kBvhBruteForceLeaves);
 }
 
-BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min) {
+BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min,
+                     ProgressCount& progress) {
   BvhArrays out;
   out.width = width;
   out.source_count = v.count;
   if (v.count == 0) return out;
   Prims prims = make_prims(v);
-  Builder builder(prims, width, parallel_min);
+  Builder builder(prims, width, parallel_min, progress);
   // The root is always a node, even over a single leaf, so traversal starts the same way.
   Builder::Node root;
   if (v.count <= flat_up_to(width)) {
@@ -172,18 +173,22 @@ std::size_t BvhArrays::memory_bytes() const {
          (masks ? slots * sizeof(std::uint32_t) : 0);
 }
 
-BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions& options) {
+BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions& options,
+                    const BuildProgress& report) {
   if (spheres.count > (std::size_t{1} << 31))
     throw std::length_error("sphray::SphereBVH: more than 2^31 spheres");
+  ProgressCount progress(report, spheres.count);
 #if SPHRAY_HAS_TBB
   // More threads than the machine runs would only make oneTBB warn: the tree is the same.
   const int cores = tbb::info::default_concurrency();
   const int use = options.threads == 0 ? cores : std::min(cores, static_cast<int>(options.threads));
   tbb::task_arena arena(use);
-  BvhArrays tree = arena.execute([&] { return build_here(spheres, width, options.parallel_min); });
+  BvhArrays tree =
+      arena.execute([&] { return build_here(spheres, width, options.parallel_min, progress); });
 #else
-  BvhArrays tree = build_here(spheres, width, options.parallel_min);
+  BvhArrays tree = build_here(spheres, width, options.parallel_min, progress);
 #endif
+  progress.done();
   copy_masks(tree, spheres);
   return tree;
 }

@@ -43,7 +43,8 @@ struct BvhArrays {
 
 /// Builds the tree over spheres for nodes of width children and leaves of at most width
 /// spheres. Throws std::length_error past 2^31 spheres.
-BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions& options);
+BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions& options,
+                    const BuildProgress& progress);
 
 /// Copies the moved spheres into the tree's leaf order and recomputes every box bottom-up.
 void refit_bvh(BvhArrays& tree, SphereView spheres);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bvh/binning.hpp"
+#include "bvh/build_progress.hpp"
 #include "bvh/bvh_data.hpp"
 #include "bvh/parallel.hpp"
 #include "bvh/prim.hpp"
@@ -33,8 +34,9 @@ constexpr std::size_t kSahDepth = kBvhMaxDepth / 2;
 
 class Builder {
  public:
-  Builder(Prims& prims, std::size_t width, std::size_t parallel_min)
+  Builder(Prims& prims, std::size_t width, std::size_t parallel_min, ProgressCount& progress)
       : p_(prims),
+        progress_(progress),
         scratch_(prims.size),
         width_(width),
         parallel_min_(std::max<std::size_t>(parallel_min, 1024)),
@@ -76,6 +78,8 @@ class Builder {
     while (parts.size() < width_) {
       const int pick = largest_splittable(parts);
       if (pick < 0) break;
+      // A split of millions of spheres takes a good part of a second: ask before each.
+      if (parts[pick].size() >= ProgressCount::kAskFrom) progress_.ask();
       const auto [left, right] = split(parts[pick], depth);
       parts[pick] = left;
       parts.insert(parts.begin() + pick + 1, right);
@@ -83,21 +87,24 @@ class Builder {
     node->children.resize(parts.size());
     for (std::size_t k = 0; k < parts.size(); ++k)
       node->children[k].cluster = parts[k];
-    build_children(*node, depth + 1);
+    build_children(*node, c.size() >= ProgressCount::kAskFrom, depth + 1);
     for (const auto& child : node->children)
       if (child.node) node->subtree_nodes += child.node->subtree_nodes;
     return node;
   }
 
  private:
-  void build_children(Node& node, std::size_t depth) {
+  // counted: whether to count the small children's spheres as placed (the node itself is not
+  // small: below it, each sphere is in exactly one small child of a large node).
+  void build_children(Node& node, bool counted, std::size_t depth) {
     TaskGroup group;
     for (auto& child : node.children) {
-      if (child.cluster.size() <= width_) continue;
-      if (child.cluster.size() >= parallel_min_)
+      const std::size_t size = child.cluster.size();
+      if (size > width_ && size >= parallel_min_)
         group.run([this, &child, depth] { child.node = build(child.cluster, depth); });
-      else
+      else if (size > width_)
         child.node = build(child.cluster, depth);
+      if (counted && size < ProgressCount::kAskFrom) progress_.placed(size);
     }
     group.wait();
   }
@@ -300,6 +307,7 @@ class Builder {
   }
 
   Prims& p_;
+  ProgressCount& progress_;
   Prims scratch_;
   std::vector<std::uint8_t> left_side_;  // per prim, in the parallel partition
   std::size_t width_;

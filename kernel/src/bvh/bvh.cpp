@@ -11,14 +11,17 @@
 
 namespace sphray {
 
+BuildCancelled::BuildCancelled() : std::runtime_error("sphray::SphereBVH: build cancelled") {}
+
 struct SphereBVH::Storage {
   detail::BvhArrays arrays;
   detail::BvhData data;  // views of arrays
 
   static std::unique_ptr<Storage> build(SphereView spheres, const detail::EntryTable& entries,
-                                        const BvhBuildOptions& options) {
+                                        const BvhBuildOptions& options,
+                                        const BuildProgress& progress = {}) {
     auto storage = std::make_unique<Storage>();
-    storage->arrays = detail::build_bvh(spheres, entries.bvh_width, options);
+    storage->arrays = detail::build_bvh(spheres, entries.bvh_width, options, progress);
     storage->data = storage->arrays.data();
     return storage;
   }
@@ -54,6 +57,11 @@ SphereBVH::SphereBVH(SphereView spheres, BvhBuildOptions options)
 SphereBVH::SphereBVH(SphereView spheres, Isa isa, BvhBuildOptions options)
     : entries_(&entries_for(isa)) {
   storage_ = Storage::build(spheres, *entries_, options);
+}
+
+SphereBVH::SphereBVH(SphereView spheres, BvhBuildOptions options, const BuildProgress& progress)
+    : entries_(&entries_for(bvh_isa(spheres.count))) {
+  storage_ = Storage::build(spheres, *entries_, options, progress);
 }
 
 // A moved-from tree keeps its kernel and loses its storage: it reads as the empty tree.
