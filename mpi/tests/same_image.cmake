@@ -1,7 +1,9 @@
 # One scene rendered twice with the same options: by `sphray render` in one process, and by
 # `sphray-mpi render` under mpiexec with RANKS ranks; the two files must be equal byte for byte.
-# -D: SPHRAY, SPHRAY_MPI, MPIEXEC, MPIEXEC_FLAGS (a list), RANKS, OPTIONS (one string), WORK_DIR.
+# -D: SPHRAY, SPHRAY_MPI, MPIEXEC, MPIEXEC_FLAGS (a list), RANKS, OPTIONS (one string), WORK_DIR,
+# and MPI_OPTIONS (one string) for sphray-mpi alone.
 separate_arguments(options UNIX_COMMAND "${OPTIONS}")
+separate_arguments(mpi_options UNIX_COMMAND "${MPI_OPTIONS}")
 file(MAKE_DIRECTORY ${WORK_DIR})
 set(single ${WORK_DIR}/single.ppm)
 set(ranks ${WORK_DIR}/ranks.ppm)
@@ -12,7 +14,7 @@ if(NOT status EQUAL 0)
   message(FATAL_ERROR "sphray render failed (${status})")
 endif()
 execute_process(COMMAND ${MPIEXEC} -n ${RANKS} ${MPIEXEC_FLAGS} ${SPHRAY_MPI} render -q ${options}
-                        -o ${ranks}
+                        ${mpi_options} -o ${ranks}
                 RESULT_VARIABLE status TIMEOUT 100)
 if(NOT status EQUAL 0)
   message(FATAL_ERROR "mpiexec -n ${RANKS} sphray-mpi render failed (${status})")

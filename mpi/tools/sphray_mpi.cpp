@@ -4,9 +4,13 @@
 //   sphray-mpi generate random:4194304 -o random4m.sphp      # a particle file
 //   mpirun -np 4 sphray-mpi bench random4m.sphp              # read, build, trace: one line
 //
-// Every rank reads the scene and keeps the spheres of one region of space (spatial_share);
-// each batch of rays the renderer traces is answered by all ranks together (DistributedScene),
-// so the image is the single-process `sphray render`'s, byte for byte, whatever the rank count.
+// Two ways to share the work (--distribution, docs/distributed.md). Replicated: every rank
+// builds the whole scene and renders every rank-th tile of the image on its own; rank 0 adds
+// the shares up. Split: every rank keeps the spheres of one region of space (spatial_share)
+// and each batch of rays the renderer traces is answered by all ranks together
+// (DistributedScene). Either way the image is the single-process `sphray render`'s, byte for
+// byte, whatever the rank count. auto, the default, replicates when the whole scene's tree fits
+// each rank's share of its node's free memory.
 // Rank 0 writes the image and prints. Exit status as sphray's: 2 for bad usage or input, 1 for
 // a failure while running; every rank exits with the same status, so none waits for another.
 // Before any work the ranks agree: on whether any of them met an error (the lowest such rank's
@@ -14,14 +18,18 @@
 // that an MPMD launch or a node-local file that differs between nodes is refused, not traced.
 #include <mpi.h>
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <new>
 #include <optional>
 #include <string>
+#include <thread>
 
 #include "atomic_output.hpp"
 #include "render_args.hpp"
@@ -178,7 +186,77 @@ void print_summary(const RenderArgs& args, const RenderOptions& options, const R
       slowest_reduce);
 }
 
-int run_render(const RenderArgs& args, MPI_Comm comm) {
+enum class Distribution { automatic, replicated, split };
+
+// Bytes a rank needs beyond the scene it has read to hold the whole scene's tree: the tree
+// (under 40 a sphere, docs/bvh.md) and the build's records of the spheres.
+constexpr double kTreeBytesPerSphere = 80.0;
+
+// The ranks that share this rank's node (its memory and cores), as a communicator's size.
+int ranks_on_node(MPI_Comm comm) {
+  MPI_Comm node;
+  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank_of(comm), MPI_INFO_NULL, &node);
+  const int ranks = size_of(node);
+  MPI_Comm_free(&node);
+  return ranks;
+}
+
+// Whether every rank may hold the whole scene's tree: the node's free memory, halved for what
+// else runs there, over its ranks. Collective: the ranks agree.
+bool replicas_fit(std::size_t spheres, MPI_Comm comm) {
+  const double free_bytes =
+      static_cast<double>(sysconf(_SC_AVPHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGESIZE));
+  int fits =
+      kTreeBytesPerSphere * static_cast<double>(spheres) * ranks_on_node(comm) <= 0.5 * free_bytes
+          ? 1
+          : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &fits, 1, MPI_INT, MPI_MIN, comm);
+  return fits == 1;
+}
+
+// Sums the ranks' images (each black outside its tiles) into rank 0's. Collective.
+void add_shares(Image& image, MPI_Comm comm) {
+  std::uint8_t* data = image.rgb.data();
+  for (std::size_t at = 0; at < image.rgb.size(); at += INT_MAX) {
+    const int n = static_cast<int>(std::min<std::size_t>(INT_MAX, image.rgb.size() - at));
+    MPI_Reduce(rank_of(comm) == 0 ? MPI_IN_PLACE : data + at, data + at, n, MPI_UNSIGNED_CHAR,
+               MPI_SUM, 0, comm);
+  }
+}
+
+// Replicated: this rank's share of the tiles over its own tree of the whole scene, on its share
+// of the node's cores unless --threads says otherwise; the shares added up on rank 0.
+Image render_replicated(const Scene& scene, RenderOptions options, MPI_Comm comm,
+                        RenderStats& stats) {
+  options.share = {rank_of(comm), size_of(comm)};
+  if (options.threads == 0) {
+    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    options.threads = std::max(1, cores / ranks_on_node(comm));
+  }
+  Image image = render(scene, options, {}, &stats);
+  add_shares(image, comm);
+  return image;
+}
+
+// Collective whatever rank 0's --quiet, which only decides whether it prints.
+void print_replicated_summary(const RenderArgs& args, const RenderOptions& options,
+                              const RenderStats& stats, std::size_t spheres, MPI_Comm comm) {
+  double seconds[2] = {stats.seconds, stats.build_seconds}, slowest[2] = {0, 0};
+  unsigned long long rays[3] = {stats.camera_rays, stats.bounce_rays, stats.shadow_rays},
+                     all[3] = {0, 0, 0};
+  MPI_Reduce(seconds, slowest, 2, MPI_DOUBLE, MPI_MAX, 0, comm);
+  MPI_Reduce(rays, all, 3, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, comm);
+  if (rank_of(comm) != 0 || args.quiet) return;
+  const double total = static_cast<double>(all[0] + all[1] + all[2]);
+  std::printf(
+      "wrote %s: %dx%d, %d spp, %s, %d ranks (replicated), %.3f s, %.0f rays/s (%llu camera + "
+      "%llu bounce + %llu shadow rays); %zu spheres on every rank, tree built in %.3f s\n",
+      args.output.c_str(), options.width, options.height, options.spp, args.mode.c_str(),
+      size_of(comm), slowest[0], slowest[0] > 0 ? total / slowest[0] : 0.0, all[0], all[1], all[2],
+      spheres, slowest[1]);
+}
+
+int run_render(const RenderArgs& args, Distribution distribution, MPI_Comm comm) {
   // Each rank reads the scene and checks the options; then the ranks agree on the outcome and
   // on the input before any collective the renderer makes.
   RankError mine;
@@ -212,12 +290,30 @@ int run_render(const RenderArgs& args, MPI_Comm comm) {
       {"the image height", static_cast<std::uint64_t>(options.height)},
       {"--spp", static_cast<std::uint64_t>(options.spp)},
       {"--seed", options.seed},
+      {"--distribution", static_cast<std::uint64_t>(distribution)},
       {"--max-depth", static_cast<std::uint64_t>(options.max_depth)}};
   if (const int status = refuse_disagreement(input, comm)) return status;
 
   int opened = 0;
   std::unique_ptr<PendingImageFile> output = open_output(args.output, args.force, comm, opened);
   if (opened != 0) return opened;
+  if (distribution == Distribution::replicated ||
+      (distribution == Distribution::automatic && replicas_fit(scene->spheres.size(), comm))) {
+    options.threads = args.threads;
+    RenderStats stats;
+    const Image image = render_replicated(*scene, options, comm, stats);
+    mine = {};
+    if (output) {
+      try {
+        output->commit(image);
+      } catch (const IoError& e) {
+        mine = {kExitIo, e.what()};
+      }
+    }
+    if (const int status = agreed_status(mine, comm)) return status;
+    print_replicated_summary(args, options, stats, scene->spheres.size(), comm);
+    return 0;
+  }
   sphray::SphereSoA share;
   std::vector<std::uint32_t> ids;
   mine = {};
@@ -402,10 +498,19 @@ int run(int argc, char** argv, MPI_Comm comm) {
   app.require_subcommand(1, 1);
   RenderArgs render_args;
   CLI::App* render = app.add_subcommand("render", "Render a scene; rank 0 writes the image");
-  // One process's threads, clock and file policy have no meaning across ranks: the tiles run
-  // in order on each rank, and a time limit would differ between clocks.
+  // A time limit would differ between the ranks' clocks; the tree is always built. Threads
+  // serve the replicated distribution (0: the node's cores shared among its ranks); split
+  // ranks trace their tiles in order.
   add_render_options(*render, render_args,
-                     {.threads = false, .time_limit = false, .accel = false, .force = true});
+                     {.threads = true, .time_limit = false, .accel = false, .force = true});
+  std::string distribution_name = "auto";
+  render
+      ->add_option("--distribution", distribution_name,
+                   "replicated: every rank holds the whole scene and renders a share of the "
+                   "tiles; split: the spheres are split between the ranks, which answer every "
+                   "ray together; auto: replicated when the scene fits every rank")
+      ->check(CLI::IsMember({"auto", "replicated", "split"}))
+      ->capture_default_str();
   std::string generate_scene, generate_output;
   bool generate_force = false;
   CLI::App* generate =
@@ -445,7 +550,11 @@ int run(int argc, char** argv, MPI_Comm comm) {
   if (const int status = refuse_disagreement(which, comm)) return status;
   switch (command) {
     case kRender:
-      return run_render(render_args, comm);
+      return run_render(render_args,
+                        distribution_name == "replicated" ? Distribution::replicated
+                        : distribution_name == "split"    ? Distribution::split
+                                                          : Distribution::automatic,
+                        comm);
     case kGenerate:
       return run_generate(generate_scene, generate_output, generate_force, comm);
     case kBench:

@@ -56,6 +56,8 @@ void check(const RenderOptions& o) {
   if (o.threads < 0 || o.threads > 1024) {
     throw std::invalid_argument("threads: expected 0 (all) to 1024");
   }
+  if (o.share.count < 1 || o.share.index < 0 || o.share.index >= o.share.count)
+    throw std::invalid_argument("tile share: expected 0 <= index < count");
   if (o.max_depth < 1 || o.max_depth > kMaxDepth) {
     throw std::invalid_argument("max depth: expected 1 to " + std::to_string(kMaxDepth));
   }
@@ -256,13 +258,15 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RayQueries& queries,
   const Camera camera(scene.camera, options.width, options.height);
   const TileTracer tracer(scene, camera, queries, options);
   const std::size_t tiles = tile_count(options.width, options.height);
+  const std::size_t mine = options.share.size(tiles);
   // Sums per tile, each tile's pixels together, so a tile's thread writes one block.
   std::vector<Vec3> sums(tiles * kTilePixels, Vec3{0, 0, 0});
   Counters counters;
-  const std::size_t total = tiles * static_cast<std::size_t>(options.spp);
+  const std::size_t total = mine * static_cast<std::size_t>(options.spp);
   const auto trace_tiles = [&](std::uint32_t first, std::uint32_t count, std::size_t begin,
                                std::size_t end) {
-    for (std::size_t t = begin; t != end; ++t) {
+    for (std::size_t k = begin; k != end; ++k) {
+      const std::size_t t = options.share.tile(k);
       tracer.trace(tile_at(t, options.width, options.height), first, count, &sums[t * kTilePixels],
                    counters, nullptr);
       const std::size_t done = counters.tiles_done += count;  // tiles times samples
@@ -282,9 +286,9 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RayQueries& queries,
     const auto count = static_cast<std::uint32_t>(
         samples_in_next_pass(passes, options.spp, seconds_since(start), options.time_limit));
     if (queries.collective()) {
-      trace_tiles(first, count, 0, tiles);  // every process the same calls in the same order
+      trace_tiles(first, count, 0, mine);  // every process the same calls in the same order
     } else {
-      trace_tiles_in(arena, tiles, [&](std::size_t begin, std::size_t end) {
+      trace_tiles_in(arena, mine, [&](std::size_t begin, std::size_t end) {
         trace_tiles(first, count, begin, end);
       });
     }

@@ -209,6 +209,8 @@ void check_options(const RenderOptions& o) {
   if (o.threads < 0 || o.threads > kMaxThreads) {
     throw std::invalid_argument("threads: expected 0 (all) to " + std::to_string(kMaxThreads));
   }
+  if (o.share.count < 1 || o.share.index < 0 || o.share.index >= o.share.count)
+    throw std::invalid_argument("tile share: expected 0 <= index < count");
 }
 
 }  // namespace
@@ -280,13 +282,13 @@ Image render(const Scene& scene, const RayQueries& queries, const RenderOptions&
                                         static_cast<std::size_t>(options.height))};
   std::size_t tiles_across = (static_cast<std::size_t>(options.width) + kTileSize - 1) / kTileSize;
   std::size_t tiles_down = (static_cast<std::size_t>(options.height) + kTileSize - 1) / kTileSize;
-  std::size_t tiles = tiles_across * tiles_down;
+  std::size_t tiles = options.share.size(tiles_across * tiles_down);
   std::atomic<std::size_t> done{0};
   std::atomic<std::uint64_t> shadow_rays{0};
   std::atomic<std::uint64_t> camera_rays{0};
   auto render_tiles = [&](std::size_t begin, std::size_t end) {
-    for (std::size_t t = begin; t != end; ++t) {
-      TileRect rect = tile_rect(t, options.width, options.height);
+    for (std::size_t k = begin; k != end; ++k) {
+      TileRect rect = tile_rect(options.share.tile(k), options.width, options.height);
       shadow_rays += render_tile(rect, camera, queries, shader, options, image);
       std::size_t finished = ++done;
       camera_rays += static_cast<std::uint64_t>(rect.width) *
@@ -310,9 +312,7 @@ Image render(const Scene& scene, const RayQueries& queries, const RenderOptions&
     stats->seconds = seconds;
     stats->build_seconds = 0.0;
     stats->bvh = false;
-    stats->camera_rays = static_cast<std::uint64_t>(options.width) *
-                         static_cast<std::uint64_t>(options.height) *
-                         static_cast<std::uint64_t>(options.spp);
+    stats->camera_rays = camera_rays;
     stats->shadow_rays = shadow_rays;
     stats->spp = options.spp;
   }

@@ -31,6 +31,21 @@ enum class Accel { automatic, bvh, brute_force };
 std::vector<std::string> accel_names();
 std::optional<Accel> parse_accel(std::string_view name);
 
+/// A share of an image's tiles: those t with t % count == index, interleaved so that the
+/// shares of an image whose cost varies across it cost about the same. The whole image by
+/// default.
+struct TileShare {
+  int index = 0, count = 1;
+  /// How many of tiles (0 to tiles - 1) are in the share, and the k-th of them.
+  std::size_t size(std::size_t tiles) const {
+    const auto i = static_cast<std::size_t>(index), n = static_cast<std::size_t>(count);
+    return tiles > i ? (tiles - i - 1) / n + 1 : 0;
+  }
+  std::size_t tile(std::size_t k) const {
+    return static_cast<std::size_t>(index) + k * static_cast<std::size_t>(count);
+  }
+};
+
 struct RenderOptions {
   Mode mode = Mode::normals;
   int width = 400, height = 225;
@@ -40,6 +55,9 @@ struct RenderOptions {
   Accel accel = Accel::automatic;
   int max_depth = 50;       // path mode: rays per path at most, the camera's included (the book's)
   double time_limit = 0.0;  // path mode: seconds after which no sample is started (0: none)
+  // Only these tiles are rendered, the other pixels left 0 (black): the shares of processes
+  // that each hold the whole scene add up to the image, byte for byte (sphray-mpi).
+  TileShare share;
 };
 
 /// 8-bit RGB, rows top to bottom, no padding.
