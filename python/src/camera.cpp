@@ -88,30 +88,25 @@ render::CameraSpec framing(const SphereSoA& spheres) {
   return camera;
 }
 
-// The caller's materials, each parsed as a scene file's sphere would hold it (the same checks
-// and defaults: a material without an albedo takes the sphere's colour, a sphere without a
-// colour shows its material's albedo in the other modes). One material serves every sphere.
+// The caller's materials, each distinct one parsed once as a scene file's sphere would hold it
+// (the same checks and defaults: a material without an albedo takes the sphere's colour, a
+// sphere without a colour shows its material's albedo in the other modes).
 void add_materials(render::Scene& scene, const RenderRequest& r) {
+  std::vector<render::MaterialEntry> entries;
+  for (const auto& [text, first] : r.materials) {
+    const std::string source =
+        r.material_of.empty() ? "materials" : "materials[" + std::to_string(first) + "]";
+    entries.push_back(render::parse_material(text, source));
+  }
   const std::size_t n = scene.spheres.size();
-  if (r.materials.size() != 1 && r.materials.size() != n) {
-    throw py::value_error("materials: expected one, or one per sphere (" + std::to_string(n) +
-                          "), got " + std::to_string(r.materials.size()));
-  }
-  std::string text = "{\"spheres\": [";
-  char color[96];
+  scene.materials.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    text += i == 0 ? "{" : ", {";
-    text += "\"center\": [0, 0, 0], \"radius\": 1, ";
-    if (!r.colors.empty()) {
-      const Vec3 c = r.colors[i];
-      std::snprintf(color, sizeof color, "\"color\": [%.9g, %.9g, %.9g], ", c.x, c.y, c.z);
-      text += color;
-    }
-    text += "\"material\": " + r.materials[r.materials.size() == 1 ? 0 : i] + "}";
+    const render::MaterialEntry& entry = entries[r.material_of.empty() ? 0 : r.material_of[i]];
+    render::Material& material = scene.materials[i];
+    material = entry.material;
+    if (!entry.albedo_given) material.albedo = scene.colors[i];
+    if (r.colors.empty()) scene.colors[i] = material.albedo;
   }
-  render::Scene parsed = render::parse_scene(text + "]}", "materials");
-  scene.colors = std::move(parsed.colors);
-  scene.materials = std::move(parsed.materials);
 }
 
 render::Scene scene_of(const RenderRequest& r) {

@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sphray/sphray.hpp"
@@ -30,11 +31,14 @@ struct RenderRequest {
   std::string accel = "auto";
   int max_depth = 50;
   double time_limit = 0.0;  // path mode: seconds after which no sample is started (0: none)
-  std::optional<SphereSoA> spheres;    // the caller's own spheres, rendered instead of scene
-  std::vector<Vec3> colors;            // with spheres: one per sphere, or none (grey)
-  std::vector<std::string> materials;  // with spheres: JSON materials, one or one per sphere
-  std::optional<std::string> camera;   // a camera object as scene files write it (JSON)
-  bool linear = false;                 // path mode: the linear radiance as float32, not bytes
+  std::optional<SphereSoA> spheres;  // the caller's own spheres, rendered instead of scene
+  std::vector<Vec3> colors;          // with spheres: one per sphere, or none (grey)
+  // With spheres: the distinct JSON materials, each with the first sphere that has it (for
+  // messages), and sphere i's index among them (empty: one material for every sphere).
+  std::vector<std::pair<std::string, std::size_t>> materials;
+  std::vector<std::uint32_t> material_of;
+  std::optional<std::string> camera;  // a camera object as scene files write it (JSON)
+  bool linear = false;                // path mode: the linear radiance as float32, not bytes
 };
 
 /// colors as one colour per sphere of count: an (count, 3) array of values in [0, 1]. Throws

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "camera.hpp"
@@ -211,6 +212,36 @@ std::string as_json(const py::handle& obj) {
   return py::module_::import("json").attr("dumps")(obj, "default"_a = tolist).cast<std::string>();
 }
 
+// materials (one dict, or one per sphere) as r's distinct JSON texts and each sphere's index
+// among them: a list that repeats a few dicts (the usual [glass] * n) is turned into JSON once
+// per dict, not once per sphere.
+void materials_of(const py::object& materials, RenderRequest& r) {
+  if (py::isinstance<py::dict>(materials)) {
+    r.materials.emplace_back(as_json(materials), 0);
+    return;
+  }
+  const py::list list(materials);
+  const std::size_t n = r.spheres->size();
+  if (list.size() != n) {
+    throw py::value_error("materials: expected one, or one per sphere (" + std::to_string(n) +
+                          "), got " + std::to_string(list.size()));
+  }
+  std::unordered_map<PyObject*, std::uint32_t> by_object;
+  std::unordered_map<std::string, std::uint32_t> by_text;
+  r.material_of.reserve(n);
+  for (const py::handle& material : list) {
+    auto [seen, fresh] = by_object.try_emplace(material.ptr(), 0);
+    if (fresh) {
+      const std::size_t sphere = r.material_of.size();
+      auto [text, new_text] =
+          by_text.try_emplace(as_json(material), static_cast<std::uint32_t>(r.materials.size()));
+      if (new_text) r.materials.emplace_back(text->first, sphere);
+      seen->second = text->second;
+    }
+    r.material_of.push_back(seen->second);
+  }
+}
+
 // Whether self, a sphray.Scene (or an instance of a Python subclass), holds its C++ Scene yet.
 bool constructed(py::handle self) {
   auto* instance = reinterpret_cast<py::detail::instance*>(self.ptr());
@@ -355,13 +386,7 @@ PYBIND11_MODULE(sphray, m) {
               py::isinstance<Scene>(scene) ? scene : m.attr("Scene")(*scene, "accel"_a = "brute");
           r.spheres = scene_in(own).copy_spheres();
           if (!colors.is_none()) r.colors = sphray::python::colors_of(colors, r.spheres->size());
-          if (!materials.is_none()) {
-            const py::list list = py::isinstance<py::dict>(materials)
-                                      ? py::list(py::make_tuple(materials))
-                                      : py::list(materials);
-            for (const py::handle& material : list)
-              r.materials.push_back(as_json(material));
-          }
+          if (!materials.is_none()) materials_of(materials, r);
         } else {
           // A preset name, or a scene file as str or pathlib.Path (os.fspath takes both).
           r.scene = py::module_::import("os").attr("fspath")(scene).cast<std::string>();

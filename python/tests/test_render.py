@@ -103,6 +103,10 @@ def test_render_own_spheres_with_materials_as_a_scene_file(rng, tmp_path):
         sphray.render((centers, radii), materials=MATERIALS[:2])
     with pytest.raises(ValueError, match="fuzz"):
         sphray.render((centers, radii), materials={"type": "metal", "fuzz": 2})
+    # A bad material in a list is named by the first sphere that has it.
+    bad = materials[:5] + [{"type": "glass"}] * 7
+    with pytest.raises(ValueError, match=r"materials\[5\]:1:10: expected \"type\" to be"):
+        sphray.render((centers, radii), materials=bad)
 
 
 @pytest.mark.parametrize("mode", ["normals", "shaded", "path"])

@@ -288,9 +288,13 @@ std::string parse_error_detail(const json::parse_error& e) {
 
 }  // namespace
 
-Scene parse_scene(std::string_view text, const std::string& source) {
+namespace {
+
+// text as JSON, with the scene files' limits (nesting, numbers, repeated keys); what names the
+// expected document in the message for empty text. Throws SceneError.
+json parse_checked(std::string_view text, const std::string& source, const std::string& what) {
   if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
-    throw SceneError(source + ": expected a JSON scene, the file is empty");
+    throw SceneError(source + ": expected " + what + ", the file is empty");
   }
   // The format nests four levels (the scene, "spheres", a sphere, its "center"); a limit far
   // above that keeps what nlohmann builds for a hostile file (about 100 bytes per level) small.
@@ -321,8 +325,26 @@ Scene parse_scene(std::string_view text, const std::string& source) {
                      ": expected each key once in an object, got " + json(duplicate->key).dump() +
                      " again");
   }
+  return root;
+}
+
+}  // namespace
+
+Scene parse_scene(std::string_view text, const std::string& source) {
+  const json root = parse_checked(text, source, "a JSON scene");
   try {
     return scene_from(root, source);
+  } catch (const Invalid& invalid) {
+    throw SceneError(source + ":" + locate(text, invalid) + ": expected " + invalid.expected);
+  }
+}
+
+MaterialEntry parse_material(std::string_view text, const std::string& source) {
+  const json root = parse_checked(text, source, "a JSON material");
+  try {
+    MaterialEntry entry{material_at(root, "", Vec3{0.5f, 0.5f, 0.5f}), root.contains("albedo")};
+    entry.albedo_given |= entry.material.kind == MaterialKind::dielectric;
+    return entry;
   } catch (const Invalid& invalid) {
     throw SceneError(source + ":" + locate(text, invalid) + ": expected " + invalid.expected);
   }

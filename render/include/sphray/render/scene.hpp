@@ -78,6 +78,15 @@ Scene make_preset(std::string_view name);
 Scene load_scene(const std::filesystem::path& file);
 /// A scene parsed from JSON text; source names it in messages. Throws SceneError.
 Scene parse_scene(std::string_view json_text, const std::string& source);
+/// A sphere's "material" as scene files write it (docs/scenes.md), parsed from JSON text with
+/// the same checks; source names it in messages. albedo_given: whether the material fixes its
+/// albedo (an "albedo" key, or a dielectric); otherwise the sphere's colour is its albedo
+/// (material.albedo holds the default grey). Throws SceneError.
+struct MaterialEntry {
+  Material material;
+  bool albedo_given = false;
+};
+MaterialEntry parse_material(std::string_view json_text, const std::string& source);
 /// A preset if name_or_file names one (or starts with "random:"), else a JSON file ("-":
 /// standard input).
 Scene load_scene_or_preset(std::string_view name_or_file);
