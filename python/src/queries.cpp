@@ -15,6 +15,7 @@
 #include <tbb/parallel_sort.h>
 
 #include "arrays.hpp"
+#include "interruption.hpp"
 #include "ray_batches.hpp"
 #include "scene.hpp"
 #include "storage/morton_order.hpp"
@@ -248,7 +249,12 @@ py::array Scene::overlapping_pairs() const {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
     std::optional<SphereBVH> own;  // a scene without a tree (accel='brute') gets one here
-    const SphereBVH& tree = bvh_ ? *bvh_ : own.emplace(spheres_.view());
+    Interruption interruption;
+    const SphereBVH& tree =
+        bvh_ ? *bvh_ : own.emplace(spheres_.view(), BvhBuildOptions{}, [&](double) {
+          interruption.check();
+          return true;
+        });
     // Shares of the tree's leaves of about kChunkRays spheres, each into a list of its own.
     const std::size_t parts = std::max<std::size_t>(1, size() / kChunkRays);
     std::vector<std::vector<IdPair>> found(parts);
