@@ -67,6 +67,14 @@ std::size_t all_hits(const Queries& q, const Ray& r) {
   const std::size_t n = q.tree ? intersect_all(*q.tree, r, out) : intersect_all(q.view, r, out);
   return n == 0 ? 0 : n * 31 + out[0].id;
 }
+// The K nearest crossings alone (the walk pruned at the K-th found so far).
+template <std::size_t K>
+std::size_t nearest_hits(const Queries& q, const Ray& r) {
+  std::array<Hit, K> out;
+  const std::size_t n =
+      q.tree ? intersect_nearest(*q.tree, r, out) : intersect_nearest(q.view, r, out);
+  return n == 0 ? 0 : n * 31 + out[0].id;
+}
 std::size_t nearest_id(const Queries& q, Vec3 p) {
   return (q.tree ? nearest(*q.tree, p) : nearest(q.view, p)).id;
 }
@@ -174,6 +182,12 @@ std::size_t ref_all(const Queries& q, const Ray& r) {
   const std::size_t n = scalar::intersect_all(q.view, r, out, {});
   return n == 0 ? 0 : n * 31 + out[0].id;
 }
+template <std::size_t K>
+std::size_t ref_nearest_hits(const Queries& q, const Ray& r) {
+  std::array<Hit, K> out;
+  const std::size_t n = std::min(scalar::intersect_all(q.view, r, out, {}), K);
+  return n == 0 ? 0 : n * 31 + out[0].id;
+}
 std::size_t ref_nearest(const Queries& q, const Vec3& p) {
   return scalar::nearest(q.view, p).id;
 }
@@ -243,7 +257,9 @@ void register_query_benchmarks() {
                                 {"closest_masked", closest_masked, ref_closest_masked},
                                 {"occluded", any_hit, ref_any},
                                 {"count_hits", count, ref_count},
-                                {"intersect_all16", all_hits, ref_all}};
+                                {"intersect_all16", all_hits, ref_all},
+                                {"intersect_nearest1", nearest_hits<1>, ref_nearest_hits<1>},
+                                {"intersect_nearest16", nearest_hits<16>, ref_nearest_hits<16>}};
   static const PointRow points[] = {{"nearest", nearest_id, ref_nearest},
                                     {"inside", occupied, ref_inside},
                                     {"overlapping", overlaps, ref_overlaps}};

@@ -195,17 +195,19 @@ TEST(AllHits, EveryKernelAndTreeMatchTheReferences) {
               EXPECT_NEAR(want[i].t, static_cast<double>(c.t), 1e-4 * (std::fabs(c.t) + 30)) << i;
             }
           }
-          // Every kernel, the dispatched query and every tree, whole and capped.
-          auto check = [&](auto&& query, const char* what, const EntryTable* k) {
+          // Every kernel, the dispatched query and every tree, whole and capped; the nearest
+          // crossings alone return how many they wrote instead of the total.
+          auto check = [&](auto&& query, const char* what, const EntryTable* k,
+                           bool nearest = false) {
             const std::size_t caps[] = {0, 1, 2, total > 0 ? total - 1 : 0, total, total + 3};
             for (const std::size_t cap : caps) {
               std::vector<Hit> got(cap + 1, Hit{-1, 12345});
               auto flags = std::make_unique<bool[]>(cap + 1);
               const std::size_t n_got =
                   query(std::span(got.data(), cap), std::span(flags.get(), cap));
-              ASSERT_EQ(n_got, total)
-                  << what << " " << (k ? test::name_of(k) : "") << " cap " << cap;
               const std::size_t kept = std::min(cap, total);
+              ASSERT_EQ(n_got, nearest ? kept : total)
+                  << what << " " << (k ? test::name_of(k) : "") << " cap " << cap;
               capped += cap < total;
               for (std::size_t i = 0; i < kept; ++i) {
                 ASSERT_TRUE(same_bits(got[i], want[i]) && flags[i] == (want_exit[i] != 0))
@@ -220,6 +222,9 @@ TEST(AllHits, EveryKernelAndTreeMatchTheReferences) {
           check([&](std::span<Hit> o, std::span<bool> e) { return intersect_all(v, ray, o, e); },
                 "dispatched", nullptr);
           EXPECT_EQ(count_hits(v, ray), total);
+          check(
+              [&](std::span<Hit> o, std::span<bool> e) { return intersect_nearest(v, ray, o, e); },
+              "nearest", nullptr, true);
           for (std::size_t k = 0; k < kernels.size(); ++k) {
             check(
                 [&](std::span<Hit> o, std::span<bool> e) {
@@ -230,6 +235,9 @@ TEST(AllHits, EveryKernelAndTreeMatchTheReferences) {
                       std::span<bool> e) { return intersect_all(trees[k], ray, o, e); },
                   "tree", kernels[k]);
             EXPECT_EQ(count_hits(trees[k], ray), total);
+            check([&](std::span<Hit> o,
+                      std::span<bool> e) { return intersect_nearest(trees[k], ray, o, e); },
+                  "tree nearest", kernels[k], true);
           }
         }
       });
@@ -264,6 +272,21 @@ TEST(AllHits, BatchFormsAnswerEachRayAsTheSingleQuery) {
       ASSERT_TRUE(same_bits(tree_out[i * kPer + k], one[k])) << "ray " << i << " slot " << k;
     }
   }
+  // The nearest crossings alone: the same slots, how many written in place of the total.
+  std::vector<Hit> near_out(out.size(), Hit{-1, 9}), tree_near_out(out.size(), Hit{-1, 9});
+  std::vector<std::size_t> near_counts(rays.size()), tree_near_counts(rays.size());
+  intersect_nearest(v, rays, near_out, kPer, near_counts);
+  intersect_nearest(tree, rays, tree_near_out, kPer, tree_near_counts);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(near_counts[i], std::min(counts[i], kPer)) << "ray " << i;
+    ASSERT_EQ(tree_near_counts[i], near_counts[i]) << "ray " << i;
+    for (std::size_t k = 0; k < kPer; ++k) {
+      ASSERT_TRUE(same_bits(near_out[i * kPer + k], out[i * kPer + k])) << "ray " << i;
+      ASSERT_TRUE(same_bits(tree_near_out[i * kPer + k], out[i * kPer + k])) << "ray " << i;
+    }
+  }
+  EXPECT_THROW(intersect_nearest(tree, rays, std::span(out).first(1), kPer, counts),
+               std::length_error);
   std::vector<std::size_t> short_counts(rays.size() - 1);
   EXPECT_THROW(count_hits(v, rays, short_counts), std::length_error);
   EXPECT_THROW(intersect_all(tree, rays, std::span(out).first(out.size() - 1), kPer, counts),

@@ -11,6 +11,10 @@
 // - intersect_all fills out with the first out.size() crossings in that order and returns how
 //   many there are in all (more than out.size() when out is too small; out's other elements are
 //   left as they were). count_hits returns that number alone.
+// - intersect_nearest fills out with the same first out.size() crossings, bit for bit, and
+//   returns how many it wrote (at most out.size()), without the total: through a tree it stops
+//   at the out.size()-th crossing found so far, as the closest hit stops at the first, instead
+//   of reading every leaf along the ray.
 // - Rays and spheres the closest-hit contract never lets hit (NaN, infinite, degenerate) have no
 //   crossings. The queries never allocate; they throw only std::length_error, on spans whose
 //   sizes do not match (below).
@@ -53,6 +57,23 @@ SPHRAY_API void intersect_all(SphereView spheres, std::span<const Ray> rays, std
                               std::size_t per_ray, std::span<std::size_t> counts);
 SPHRAY_API void intersect_all(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> out,
                               std::size_t per_ray, std::span<std::size_t> counts);
+
+/// The nearest out.size() crossings alone: intersect_all's first out.size() (and exits),
+/// without the total; returns how many were written. Through a tree the walk stops at the
+/// out.size()-th crossing found so far (k-buffers, the first layers of transparency).
+SPHRAY_API std::size_t intersect_nearest(SphereView spheres, const Ray& ray, std::span<Hit> out);
+SPHRAY_API std::size_t intersect_nearest(SphereView spheres, const Ray& ray, std::span<Hit> out,
+                                         std::span<bool> exits);
+SPHRAY_API std::size_t intersect_nearest(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out);
+SPHRAY_API std::size_t intersect_nearest(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out,
+                                         std::span<bool> exits);
+/// Batch forms: the nearest per_ray crossings of rays[i] in out[i * per_ray ...], how many in
+/// counts[i]. Throw std::length_error as intersect_all's.
+SPHRAY_API void intersect_nearest(SphereView spheres, std::span<const Ray> rays, std::span<Hit> out,
+                                  std::size_t per_ray, std::span<std::size_t> counts);
+SPHRAY_API void intersect_nearest(const SphereBVH& bvh, std::span<const Ray> rays,
+                                  std::span<Hit> out, std::size_t per_ray,
+                                  std::span<std::size_t> counts);
 
 namespace scalar {
 /// The reference implementation, one sphere at a time.

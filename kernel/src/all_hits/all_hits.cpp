@@ -3,6 +3,7 @@
 // the kernel it was built for.
 #include "sphray/all_hits.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "bvh/bvh_data.hpp"
@@ -50,6 +51,28 @@ std::size_t count_hits(const SphereBVH& bvh, const Ray& ray) {
   return intersect_all(bvh, ray, {}, {});
 }
 
+std::size_t intersect_nearest(SphereView spheres, const Ray& ray, std::span<Hit> out,
+                              std::span<bool> exits) {
+  // Brute force reads every sphere either way: the nearest are every crossing's first.
+  return std::min(intersect_all(spheres, ray, out, exits), out.size());
+}
+
+std::size_t intersect_nearest(SphereView spheres, const Ray& ray, std::span<Hit> out) {
+  return intersect_nearest(spheres, ray, out, {});
+}
+
+std::size_t intersect_nearest(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out,
+                              std::span<bool> exits) {
+  bool* flags = exit_flags(out, exits);
+  if (out.empty()) return 0;
+  using A = detail::BvhAccess;
+  return A::entries(bvh).bvh_intersect_nearest(A::data(bvh), ray, out.data(), flags, out.size());
+}
+
+std::size_t intersect_nearest(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out) {
+  return intersect_nearest(bvh, ray, out, {});
+}
+
 namespace {
 
 // out must hold per_ray hits for each ray (written without overflowing rays * per_ray).
@@ -87,6 +110,25 @@ void intersect_all(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hi
   for (std::size_t i = 0; i < rays.size(); ++i)
     counts[i] =
         entries.bvh_intersect_all(data, rays[i], out.data() + i * per_ray, nullptr, per_ray);
+}
+
+void intersect_nearest(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> out,
+                       std::size_t per_ray, std::span<std::size_t> counts) {
+  check_batch(rays.size(), counts.size(), out.size(), per_ray);
+  using A = detail::BvhAccess;
+  const detail::BvhData& data = A::data(bvh);
+  const detail::EntryTable& entries = A::entries(bvh);
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    counts[i] = per_ray == 0 ? 0
+                             : entries.bvh_intersect_nearest(
+                                   data, rays[i], out.data() + i * per_ray, nullptr, per_ray);
+}
+
+void intersect_nearest(SphereView spheres, std::span<const Ray> rays, std::span<Hit> out,
+                       std::size_t per_ray, std::span<std::size_t> counts) {
+  intersect_all(spheres, rays, out, per_ray, counts);
+  for (std::size_t& count : counts)
+    count = std::min(count, per_ray);
 }
 
 }  // namespace sphray

@@ -72,6 +72,31 @@ struct AllHits {
     return list.total();
   }
 
+  // The nearest crossings alone (the list's capacity, at least 1): once the list is full, the
+  // walk's bound is its last t, so that the leaves behind it are never read, as the closest hit
+  // stops at the nearest found so far. A crossing at that t may still displace the last kept
+  // one (a lower id), and the walk still enters boxes that begin at it. Returns how many it
+  // kept.
+  static std::size_t intersect_nearest(const BvhData& bvh, const Ray& ray, HitList& list) {
+    return bvh.spheres.mask != nullptr ? intersect_nearest<true>(bvh, ray, list)
+                                       : intersect_nearest<false>(bvh, ray, list);
+  }
+
+  template <bool kMasked>
+  static std::size_t intersect_nearest(const BvhData& bvh, const Ray& ray, HitList& list) {
+    RaySetup s;
+    if (!Lanes::setup(ray, s)) return 0;
+    float bound = s.tmax;
+    TreeWalk<A>::traverse(bvh, ray, bound, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
+      __builtin_prefetch(bvh.ids + first);
+      add_batch<Skip::kAfterDisc>(s, Lanes::template load_seen<kMasked>(bvh.spheres, first, s),
+                                  list, [&](unsigned lane) { return bvh.ids[first + lane]; });
+      if (list.full()) bound = list.last_t();
+      return false;
+    });
+    return list.size();
+  }
+
   // The crossings of one batch: a lane's near root is an entry, its far root an exit, each
   // where it lies in (tmin, tmax). The lanes that have one are few: a loop over their bits.
   template <Skip kSkip, class IdOf>

@@ -144,6 +144,12 @@ std::size_t scalar_bvh_intersect_all(const BvhData& bvh, const Ray& ray, Hit* hi
   return list.total();
 }
 
+// The nearest crossings are the first of every crossing: the reference needs no pruning.
+std::size_t scalar_bvh_intersect_nearest(const BvhData& bvh, const Ray& ray, Hit* hits, bool* exits,
+                                         std::size_t capacity) {
+  return std::min(scalar_bvh_intersect_all(bvh, ray, hits, exits, capacity), capacity);
+}
+
 void scalar_stream(SphereView spheres, const Ray* rays, Hit* hits, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i)
     hits[i] = scalar::intersect(spheres, rays[i]);
@@ -183,6 +189,7 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              &scalar_bvh_occluded_stream,
                                              &scalar_intersect_all,
                                              &scalar_bvh_intersect_all,
+                                             &scalar_bvh_intersect_nearest,
                                              &scalar_nearest,
                                              &scalar_overlapping,
                                              &scalar_bvh_nearest,

@@ -117,6 +117,11 @@ struct EntryPoints {
     HitList list(hits, exits, capacity);
     return AllHits<A>::intersect_all(bvh, ray, list);
   }
+  static std::size_t bvh_intersect_nearest(const BvhData& bvh, const Ray& ray, Hit* hits,
+                                           bool* exits, std::size_t capacity) {
+    HitList list(hits, exits, capacity);
+    return AllHits<A>::intersect_nearest(bvh, ray, list);
+  }
 
   using Points = PointQueries<A>;
   static Hit nearest(SphereView v, Vec3 point, float) { return Points::nearest(v, point); }
@@ -156,6 +161,7 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::bvh_occluded_stream,
           &E::intersect_all,
           &E::bvh_intersect_all,
+          &E::bvh_intersect_nearest,
           &E::nearest,
           &E::overlapping,
           &E::bvh_nearest,

@@ -52,6 +52,10 @@ struct EntryTable {
                                std::size_t capacity);
   std::size_t (*bvh_intersect_all)(const BvhData& bvh, const Ray& ray, Hit* hits, bool* exits,
                                    std::size_t capacity);
+  /// The nearest capacity (at least 1) crossings alone, as bvh_intersect_all's first ones, the
+  /// walk bounded by the last kept; returns how many it wrote.
+  std::size_t (*bvh_intersect_nearest)(const BvhData& bvh, const Ray& ray, Hit* hits, bool* exits,
+                                       std::size_t capacity);
   /// The point queries (point_queries.hpp): the nearest sphere as {signed distance, id}
   /// ({+inf, kNoHit} for none; the caller applies max_distance, which may only prune), and the
   /// spheres a ball overlaps, into out; returns their number.
