@@ -115,13 +115,8 @@ void intersect_all(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hi
 void intersect_nearest(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> out,
                        std::size_t per_ray, std::span<std::size_t> counts) {
   check_batch(rays.size(), counts.size(), out.size(), per_ray);
-  using A = detail::BvhAccess;
-  const detail::BvhData& data = A::data(bvh);
-  const detail::EntryTable& entries = A::entries(bvh);
   for (std::size_t i = 0; i < rays.size(); ++i)
-    counts[i] = per_ray == 0 ? 0
-                             : entries.bvh_intersect_nearest(
-                                   data, rays[i], out.data() + i * per_ray, nullptr, per_ray);
+    counts[i] = intersect_nearest(bvh, rays[i], out.subspan(i * per_ray, per_ray));
 }
 
 void intersect_nearest(SphereView spheres, std::span<const Ray> rays, std::span<Hit> out,
