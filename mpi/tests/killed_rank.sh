@@ -13,11 +13,20 @@ $mpiexec $flags -n 2 "$sphray_mpi" render -q -s rtiow-final -m path --spp 4096 -
   --distribution "$distribution" -o out.ppm &
 launcher=$!
 
+# The launcher's children, from /proc (no procps on a minimal system): field 4 of stat is the
+# parent's pid (the command name, field 2, has no spaces here).
+children() {
+  local stat
+  for stat in /proc/[0-9]*/stat; do
+    read -r pid_ _ _ ppid_ _ <"$stat" 2>/dev/null && [ "$ppid_" = "$1" ] && echo "$pid_"
+  done
+}
+
 # The victim: the launcher's child whose environment names it rank $victim (Open MPI sets
 # OMPI_COMM_WORLD_RANK in each rank's).
 pid=
 for _ in $(seq 300); do
-  for child in $(pgrep -P "$launcher" 2>/dev/null); do
+  for child in $(children "$launcher"); do
     if tr '\0' '\n' <"/proc/$child/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=$victim"; then
       pid=$child
     fi
@@ -36,7 +45,8 @@ for _ in $(seq 600); do
 done
 if kill -0 "$launcher" 2>/dev/null; then
   echo "FAIL: the job still runs 60 s after rank $victim was killed"
-  pkill -KILL -P "$launcher"; kill -KILL "$launcher"
+  for child in $(children "$launcher"); do kill -KILL "$child"; done
+  kill -KILL "$launcher"
   exit 1
 fi
 wait "$launcher"
