@@ -186,6 +186,20 @@ void print_summary(const RenderArgs& args, const RenderOptions& options, const R
       slowest_reduce);
 }
 
+// Rank 0 writes the image (output is null on the other ranks); every rank learns whether it
+// could and returns the same status. Collective.
+int commit_image(PendingImageFile* output, const Image& image, MPI_Comm comm) {
+  RankError mine;
+  if (output) {
+    try {
+      output->commit(image);
+    } catch (const IoError& e) {
+      mine = {kExitIo, e.what()};
+    }
+  }
+  return agreed_status(mine, comm);
+}
+
 enum class Distribution { automatic, replicated, split };
 
 // Bytes a rank needs beyond the scene it has read to hold the whole scene's tree: the tree
@@ -302,15 +316,7 @@ int run_render(const RenderArgs& args, Distribution distribution, MPI_Comm comm)
     options.threads = args.threads;
     RenderStats stats;
     const Image image = render_replicated(*scene, options, comm, stats);
-    mine = {};
-    if (output) {
-      try {
-        output->commit(image);
-      } catch (const IoError& e) {
-        mine = {kExitIo, e.what()};
-      }
-    }
-    if (const int status = agreed_status(mine, comm)) return status;
+    if (const int status = commit_image(output.get(), image, comm)) return status;
     print_replicated_summary(args, options, stats, scene->spheres.size(), comm);
     return 0;
   }
@@ -337,16 +343,7 @@ int run_render(const RenderArgs& args, Distribution distribution, MPI_Comm comm)
   const DistributedQueries queries(*distributed);
   RenderStats stats;
   const Image image = render(*scene, queries, options, {}, &stats);
-  // Rank 0 writes the image; the others wait to learn whether it could, and exit alike.
-  mine = {};
-  if (output) {
-    try {
-      output->commit(image);
-    } catch (const IoError& e) {
-      mine = {kExitIo, e.what()};
-    }
-  }
-  if (const int status = agreed_status(mine, comm)) return status;
+  if (const int status = commit_image(output.get(), image, comm)) return status;
   print_summary(args, options, stats, *distributed);
   return 0;
 }
