@@ -6,11 +6,6 @@
 namespace sphray::render {
 namespace {
 
-// The kernel's surface error bound (kernel/src/surface/surface.cpp): Higham's gamma(16). The
-// passes repeat surface() and offset_origin() lane by lane; tests/render/wavefront_test.cpp
-// holds them to the kernel's, bit for bit.
-constexpr float kGamma16 = 16.0f * 0x1p-24f / (1.0f - 16.0f * 0x1p-24f);
-
 // The copies of the passes this build has, best first (render/CMakeLists.txt).
 constexpr ShadeClone kClones[] = {
 #if SPHRAY_SHADE_HAS_AVX512
@@ -55,18 +50,14 @@ bool runs_on(Isa clone, Isa active) {
 ShadingTable::ShadingTable(const Scene& scene) {
   const SphereView view = scene.spheres.view();
   const auto lambertian = static_cast<std::int32_t>(MaterialKind::lambertian);
-  rows_.resize(view.count + 1, SphereShading{0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 0, 1, lambertian});
+  rows_.resize(view.count + 1, SphereShading{0, 0, 0, 1, 1, 1, 1, 0, 1, lambertian});
   for (std::uint32_t id = 0; id < view.count; ++id) {
     const Material m = material_of(scene, id);
-    const float r = view.radius[id];
     const bool glass = m.kind == MaterialKind::dielectric;
     rows_[id] = {view.cx[id],
                  view.cy[id],
                  view.cz[id],
-                 r,
-                 kGamma16 * (std::fabs(view.cx[id]) + r),
-                 kGamma16 * (std::fabs(view.cy[id]) + r),
-                 kGamma16 * (std::fabs(view.cz[id]) + r),
+                 view.radius[id],
                  glass ? 1.0f : m.albedo.x,
                  glass ? 1.0f : m.albedo.y,
                  glass ? 1.0f : m.albedo.z,

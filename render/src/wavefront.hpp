@@ -27,11 +27,10 @@ inline constexpr std::size_t kWavefront = static_cast<std::size_t>(kTileSize) * 
 /// two vectors of 8 fields and transposes 8 rows at a time (wavefront_passes.cpp).
 struct alignas(64) SphereShading {
   float cx, cy, cz, radius;
-  float ex, ey, ez;  // surface()'s error bound
   float ar, ag, ab;  // the attenuation: the albedo, 1 for a dielectric (as scatter() returns)
   float fuzz, ior;
   std::int32_t kind;  // MaterialKind
-  std::int32_t unused[3] = {};
+  std::int32_t unused[6] = {};
 };
 static_assert(sizeof(SphereShading) == 64);
 
@@ -88,7 +87,8 @@ struct Wavefront {
   Lanes<std::uint32_t> slot;            // where the path's light goes (its radiance entry)
   alignas(64) Lanes<float> sky;         // the next ray's blend of Sky::radiance
   alignas(64) Lanes<float> ox, oy, oz, dx, dy, dz, t;  // the ray, then the next one
-  alignas(64) Lanes<float> cx, cy, cz, radius, ex, ey, ez, ar, ag, ab, fuzz, ior;
+  alignas(64) Lanes<float> cx, cy, cz, radius, ar, ag, ab, fuzz, ior;
+  alignas(64) Lanes<float> ex, ey, ez;  // surface()'s error bound
   alignas(64) Lanes<std::int32_t> kind, alive, row;
   alignas(64) Lanes<float> px, py, pz, nx, ny, nz;  // surface point and outward normal
   alignas(64) Lanes<float> onx, ony, onz;           // the normal against the incoming ray

@@ -24,12 +24,11 @@ bool finite(float x) {
   return std::fabs(x) <= std::numeric_limits<float>::max();
 }
 
-// surface()'s power of two s with s * x in [1, 4), by the exponent's bits.
-float power_of_two_near_inverse(float x) {
-  const auto exponent = static_cast<std::int32_t>(std::bit_cast<std::uint32_t>(x) >> 23);
-  const std::int32_t scale = 254 - exponent > 1 ? 254 - exponent : 1;
-  return std::bit_cast<float>(static_cast<std::uint32_t>(scale) << 23);
+// surface()'s error bound: gamma(n) = n u / (1 - n u), u = 2^-24 (kernel/src/surface/surface.cpp).
+constexpr float gamma(int n) {
+  return static_cast<float>(n) * 0x1p-24f / (1.0f - static_cast<float>(n) * 0x1p-24f);
 }
+constexpr float kGamma10 = gamma(10), kGamma2 = gamma(2);
 
 // Sky::radiance's blend for a ray's direction, 0.5 (normalize(dir).y + 1): computed with the ray,
 // in a vector pass, and kept in its path's record, it is all a miss needs besides the throughput.
@@ -117,20 +116,18 @@ void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t
     Floats8 lo[8], hi[8];
     for (int i = 0; i < 8; ++i) {
       load8(lo[i], &rows[w.row[k + i]].cx);
-      load8(hi[i], &rows[w.row[k + i]].ag);
+      load8(hi[i], &rows[w.row[k + i]].ior);
     }
     transpose8(lo);
     transpose8(hi);
     store8(&w.cx[k], lo[0]), store8(&w.cy[k], lo[1]), store8(&w.cz[k], lo[2]);
     store8(&w.radius[k], lo[3]);
-    store8(&w.ex[k], lo[4]), store8(&w.ey[k], lo[5]), store8(&w.ez[k], lo[6]);
-    store8(&w.ar[k], lo[7]), store8(&w.ag[k], hi[0]), store8(&w.ab[k], hi[1]);
-    store8(&w.fuzz[k], hi[2]), store8(&w.ior[k], hi[3]), store8(&w.kind[k], hi[4]);
+    store8(&w.ar[k], lo[4]), store8(&w.ag[k], lo[5]), store8(&w.ab[k], lo[6]);
+    store8(&w.fuzz[k], lo[7]), store8(&w.ior[k], hi[0]), store8(&w.kind[k], hi[1]);
   }
   for (; k < lanes; ++k) {
     const SphereShading& s = rows[w.row[k]];
     w.cx[k] = s.cx, w.cy[k] = s.cy, w.cz[k] = s.cz, w.radius[k] = s.radius;
-    w.ex[k] = s.ex, w.ey[k] = s.ey, w.ez[k] = s.ez;
     w.ar[k] = s.ar, w.ag[k] = s.ag, w.ab[k] = s.ab;
     w.fuzz[k] = s.fuzz, w.ior[k] = s.ior, w.kind[k] = s.kind;
   }
@@ -185,31 +182,41 @@ void gather(Wavefront& w, const ShadingTable& table, std::size_t lanes) {
 }
 
 // sphray::surface() for every lane, the unit incoming direction and the normal against it.
+// The normal and point in double, the front face from the ray's origin (tmin is 0 here), and
+// the error bound, as surface() computes them.
 void surfaces(Wavefront& w, std::size_t lanes) {
   for (std::size_t k = 0; k < lanes; ++k) {
     const float px = w.ox[k] + w.t[k] * w.dx[k];
     const float py = w.oy[k] + w.t[k] * w.dy[k];
     const float pz = w.oz[k] + w.t[k] * w.dz[k];
     const float fx = px - w.cx[k], fy = py - w.cy[k], fz = pz - w.cz[k];
-    float largest = std::fabs(fx);  // std::max({...}): the first largest
-    largest = largest < std::fabs(fy) ? std::fabs(fy) : largest;
-    largest = largest < std::fabs(fz) ? std::fabs(fz) : largest;
-    const bool has_direction = finite(fx) && finite(fy) && finite(fz) && largest > 0.0f;
-    const float scale = power_of_two_near_inverse(largest);
-    const float sx = fx * scale, sy = fy * scale, sz = fz * scale;
-    const float slength = std::sqrt(sx * sx + sy * sy + sz * sz);
+    const bool has_direction =
+        finite(fx) && finite(fy) && finite(fz) && (fx != 0.0f || fy != 0.0f || fz != 0.0f);
+    const double tx = has_direction ? fx : -w.dx[k];
+    const double ty = has_direction ? fy : -w.dy[k];
+    const double tz = has_direction ? fz : -w.dz[k];
+    const double tlength = std::sqrt(tx * tx + ty * ty + tz * tz);
+    const double dnx = tx / tlength, dny = ty / tlength, dnz = tz / tlength;
+    const float nx = static_cast<float>(dnx), ny = static_cast<float>(dny),
+                nz = static_cast<float>(dnz);
+    w.nx[k] = nx, w.ny[k] = ny, w.nz[k] = nz;
+    const float r = w.radius[k];
+    const float sx = static_cast<float>(w.cx[k] + r * dnx);
+    const float sy = static_cast<float>(w.cy[k] + r * dny);
+    const float sz = static_cast<float>(w.cz[k] + r * dnz);
+    w.px[k] = sx, w.py[k] = sy, w.pz[k] = sz;
+    const float radial = kGamma10 * r;
+    w.ex[k] = radial * std::fabs(nx) + kGamma2 * std::fabs(sx);
+    w.ey[k] = radial * std::fabs(ny) + kGamma2 * std::fabs(sy);
+    w.ez[k] = radial * std::fabs(nz) + kGamma2 * std::fabs(sz);
+    const double gx = static_cast<double>(w.ox[k]) - w.cx[k];
+    const double gy = static_cast<double>(w.oy[k]) - w.cy[k];
+    const double gz = static_cast<double>(w.oz[k]) - w.cz[k];
+    const bool front = gx * gx + gy * gy + gz * gz > static_cast<double>(r) * r;
     const float length = std::sqrt(w.dx[k] * w.dx[k] + w.dy[k] * w.dy[k] + w.dz[k] * w.dz[k]);
     w.ux[k] = w.dx[k] / length, w.uy[k] = w.dy[k] / length, w.uz[k] = w.dz[k] / length;
-    const float nx = has_direction ? sx / slength : -w.ux[k];
-    const float ny = has_direction ? sy / slength : -w.uy[k];
-    const float nz = has_direction ? sz / slength : -w.uz[k];
-    w.nx[k] = nx, w.ny[k] = ny, w.nz[k] = nz;
-    w.px[k] = w.cx[k] + w.radius[k] * nx;
-    w.py[k] = w.cy[k] + w.radius[k] * ny;
-    w.pz[k] = w.cz[k] + w.radius[k] * nz;
     // The normal against the incoming ray (as scatter() turns it), and a dielectric's eta.
     // Every load and store unconditional: a conditional one keeps GCC from vectorising.
-    const bool front = w.dx[k] * nx + w.dy[k] * ny + w.dz[k] * nz < 0.0f;
     const float ox = front ? nx : -nx, oy = front ? ny : -ny, oz = front ? nz : -nz;
     w.onx[k] = ox, w.ony[k] = oy, w.onz[k] = oz;
     const float ior = w.ior[k], inverse = 1.0f / ior;

@@ -223,6 +223,64 @@ INSTANTIATE_TEST_SUITE_P(EveryRunnableIsa, SpawnPerIsa, ::testing::ValuesIn(supp
                            return name;
                          });
 
+// front_face says which side the ray came from, not the sign of dot(dir, normal): rays from
+// outside that graze a large sphere (the book's ground, radius 1000, seen from a camera 1.2
+// above it) are front faces, every one, although for a grazing ray that dot product is below
+// the normal's rounding; rays from inside are back faces. The grazing rays aim at angles
+// log-uniform from 1e-9 to 1e-3 radians inside the tangent cone (the closest to the cone, whose
+// hits float puts anywhere along the chord, are where the sign of the dot product fails).
+TEST_P(SpawnPerIsa, FrontFaceIsTheSideTheRayCameFrom) {
+  const EntryTable* k = find_entries(GetParam());
+  ASSERT_NE(k, nullptr);
+  test::LooseSpheres s(3);
+  for (int i = 0; i < 40; ++i)
+    s.add({0, 0, 0}, 0.0f);
+  constexpr std::uint32_t kId = 21;
+  const Vec3 center{0, -1000, 0};
+  constexpr float kRadius = 1000.0f;
+  s.storage[1][s.offset + kId] = center.y;
+  s.storage[3][s.offset + kId] = kRadius;
+  const SphereView view = s.view();
+  std::mt19937 rng(3200 + static_cast<unsigned>(GetParam()));
+
+  // The tangent cone from the camera: axis a toward the centre, half-angle asin(r / |c - o|).
+  const Vec3 origin{0, 1.2f, 5};
+  const double gx = center.x - origin.x, gy = center.y - origin.y, gz = center.z - origin.z;
+  const double distance = std::sqrt(gx * gx + gy * gy + gz * gz);
+  const double ax = gx / distance, ay = gy / distance, az = gz / distance;
+  const double ux = 1, uy = 0, uz = 0;  // a unit vector across the axis (a has no x)
+  const double vx = ay * uz - az * uy, vy = az * ux - ax * uz, vz = ax * uy - ay * ux;
+  const double half_angle = std::asin(double(kRadius) / distance);
+  const std::size_t rays = test::scaled(1000000);
+  std::size_t grazing_hits = 0, back_faces = 0;
+  for (std::size_t i = 0; i < rays; ++i) {
+    const double phi = test::uniform(rng, 0.0f, 2.0f * std::numbers::pi_v<float>);
+    const double angle = half_angle - double(log_uniform(rng, 1e-9f, 1e-3f));
+    const double across = std::sin(angle), along = std::cos(angle);
+    const double cx = std::cos(phi) * across, cy = std::sin(phi) * across;
+    const Vec3 dir{static_cast<float>(along * ax + cx * ux + cy * vx),
+                   static_cast<float>(along * ay + cx * uy + cy * vy),
+                   static_cast<float>(along * az + cx * uz + cy * vz)};
+    const Ray ray{origin, dir};
+    const Hit hit = k->intersect(view, ray);
+    if (hit.id != kId) continue;  // float's direction missed the cone
+    ++grazing_hits;
+    back_faces += surface(view, ray, hit).front_face ? 0 : 1;
+  }
+  EXPECT_GT(grazing_hits, rays / 2);
+  EXPECT_EQ(back_faces, 0u) << "of " << grazing_hits << " grazing hits from outside";
+
+  // From inside: origins up to 10 below the top, any direction (every one meets the sphere).
+  std::size_t front_faces = 0;
+  for (std::size_t i = 0; i < rays / 10; ++i) {
+    const Ray ray{{0, -log_uniform(rng, 1e-3f, 10.0f), 0}, unit_vector(rng)};
+    const Hit hit = k->intersect(view, ray);
+    ASSERT_EQ(hit.id, kId);
+    front_faces += surface(view, ray, hit).front_face ? 1 : 0;
+  }
+  EXPECT_EQ(front_faces, 0u);
+}
+
 // Spheres of every scale in one scene, none overlapping, queried through the BVH's stream.
 TEST(SpawnBvh, OutwardNeverSelfHitsInwardFindsTheFarSide) {
   std::mt19937 rng(77);

@@ -91,6 +91,32 @@ TEST(WhiteFurnace, HoldsThroughTheBvhAtTwoScales) {
   expect_furnace(scene, 2.0f, 2);
 }
 
+// The ground alone under a uniform sky, seen from 1.2 above it (issue 32's horizon): a ray that
+// grazes the ground from outside is a front face however its normal rounds, so its Lambertian
+// bounce leaves upward and escapes, and every pixel is the sky's 0.5 at any depth. (When grazing
+// hits were called back faces by the sign of dot(dir, normal), some bounces went into the
+// ground and their paths never came back: pixels on the horizon rows came out darker.)
+TEST(WhiteFurnace, GrazingHitsOnTheGroundAreFrontFaces) {
+  Scene scene = make_preset("single");
+  scene.spheres = SphereSoA();
+  scene.spheres.add({0, -1000, 0}, 1000.0f);
+  scene.colors.assign(1, Vec3{1, 1, 1});
+  scene.materials.assign(1, kWhite);
+  scene.camera = CameraSpec{{0, 1.2f, 5}, {0, 0.4f, 0}, {0, 1, 0}, 40.0f};
+  scene.sky = uniform_sky(0.5f);
+  for (int depth : {2, 50}) {
+    RenderOptions o = path_options(160, 90, 1024);
+    o.max_depth = depth;
+    o.seed = 1;
+    const std::vector<Vec3> image = render_radiance(scene, o);
+    ASSERT_EQ(image.size(), 160u * 90u);
+    int darker = 0;
+    for (const Vec3& c : image)
+      darker += std::fabs(c.x - 0.5f) > 1e-6f * 0.5f ? 1 : 0;
+    EXPECT_EQ(darker, 0) << "pixels off the sky's radiance at depth " << depth;
+  }
+}
+
 // Mirrors and glass of albedo 1 lose nothing either: every scattered path keeps throughput 1.
 TEST(WhiteFurnace, MirrorAndGlassLoseNothing) {
   Scene scene = make_preset("three");

@@ -40,7 +40,8 @@ struct Hit {
 
 /// Where a ray meets a sphere: the point lies on the sphere (re-projected from the ray's t),
 /// the normal is the sphere's outward unit normal there, and front_face says whether the ray
-/// arrived from outside (dot(dir, normal) < 0).
+/// arrived from outside: its start, origin + tmin dir, lies outside the sphere (decided in
+/// double, not by the sign of dot(dir, normal), which rounding decides for grazing rays).
 ///
 /// error bounds, coordinate by coordinate, how far the sphere's surface as any kernel computes
 /// it may lie from point: the rounding of point itself and the kernel's own rounding of the

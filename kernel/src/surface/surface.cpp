@@ -17,15 +17,35 @@ constexpr float gamma(int n) {
   return static_cast<float>(n) * u / (1.0f - static_cast<float>(n) * u);
 }
 
-// Coordinate by coordinate, how far the surface as a kernel computes it may be from the point
-// surface() returns, for a sphere of centre c and radius r (docs/kernel.md, "Leaving a surface",
-// derives it). The point c + r n is rounded in its normal's normalisation (6 roundings of n's
-// length, hence of the radius along n), its product with r and its sum with c: gamma(8) of
-// |c_i| + r covers them. A kernel rounds c - origin and squares it against r^2 in c and in
-// the discriminant: as a distance along the normal, gamma(7) r. gamma(16) leaves each part
-// room to spare; the offset it costs is 1e-6 of the scene's scale.
-Vec3 surface_error(Vec3 c, float r) {
-  return gamma(16) * Vec3{std::fabs(c.x) + r, std::fabs(c.y) + r, std::fabs(c.z) + r};
+// Whether the ray's interval starts outside the sphere: in exact arithmetic, exactly when the
+// hit is the near root, the side the ray arrived from. Decided in double, where the start and
+// the centre's difference and its square carry some 2^-50 of relative error, not from the sign
+// of dot(dir, normal): for a ray grazing a large sphere that dot product is below the normal's
+// own rounding, and a ray from outside was called a back face (docs/kernel.md, "Front faces").
+bool starts_outside(const Ray& ray, Vec3 center, float radius) {
+  if (ray.tmin == -INFINITY) return true;  // the near root of every line
+  const double t = ray.tmin;
+  const double gx = (ray.origin.x + t * ray.dir.x) - static_cast<double>(center.x);
+  const double gy = (ray.origin.y + t * ray.dir.y) - static_cast<double>(center.y);
+  const double gz = (ray.origin.z + t * ray.dir.z) - static_cast<double>(center.z);
+  const double r = radius;
+  return gx * gx + gy * gy + gz * gz > r * r;
+}
+
+// Coordinate by coordinate, how far the sphere as a kernel computes it may lie from the point
+// surface() returns, for a sphere of radius r, the point p and the unit normal n there
+// (docs/kernel.md, "Leaving a surface", derives it). Two parts:
+// - the point: c + r n evaluated in double and rounded once to float, off the sphere by at
+//   most u |p_i| per coordinate (the double's own error is some 2^-50 r);
+// - the kernels: for an origin within a few u r of the sphere they round |c - o|^2 - r^2 by
+//   at most about 16 u r^2 (first order), a distance of 8 u r along the normal, whatever the
+//   sphere's distance from the world origin, since they work from c - o.
+// gamma(10) r along the normal and gamma(2) |p_i| bound them with a margin.
+Vec3 surface_error(Vec3 p, Vec3 n, float r) {
+  const float radial = gamma(10) * r;
+  return {radial * std::fabs(n.x) + gamma(2) * std::fabs(p.x),
+          radial * std::fabs(n.y) + gamma(2) * std::fabs(p.y),
+          radial * std::fabs(n.z) + gamma(2) * std::fabs(p.z)};
 }
 
 // The next float from x in the direction of sign (pbrt-v4's NextFloatUp/Down): rounding the
@@ -41,14 +61,6 @@ float away(float x, float sign) {
   return std::isinf(x) ? x : std::bit_cast<float>(bits + 1u);
 }
 
-// A power of two s with s * x in [1, 4) for finite x > 0 (in [2^-22, 4) for denormals): a
-// scale by it is exact, where a division by x would round, and costs a multiply, not a divide.
-float power_of_two_near_inverse(float x) {
-  const auto exponent = static_cast<int>(std::bit_cast<std::uint32_t>(x) >> 23);  // biased
-  const int scale_exponent = std::max(254 - exponent, 1);  // 2^(127 - e), kept a normal float
-  return std::bit_cast<float>(static_cast<std::uint32_t>(scale_exponent) << 23);
-}
-
 }  // namespace
 
 Surface surface(SphereView spheres, const Ray& ray, const Hit& hit) {
@@ -58,20 +70,25 @@ Surface surface(SphereView spheres, const Ray& ray, const Hit& hit) {
   const float radius = spheres.radius[hit.id];
   // The normal from the centre, not (p - centre) / radius: p is off the sphere by t's rounding,
   // and normalising keeps the normal unit length whatever that error. The point is then put
-  // back on the sphere along it, so secondary rays start from the surface itself.
+  // back on the sphere along it, in double (pbrt-v4 reprojects the same way, section 6.8.5),
+  // so that its only error is its final rounding to float: in float the normal's own rounding
+  // would put it some 5 u r off the sphere, which spawn() would have to step over.
   // A hit at the very centre (radius below float's resolution) has no direction from it: face
-  // the ray instead, so the normal is still unit length.
-  // The offset is scaled near unit length before it is normalised: the squares of a tiny one
-  // (a sphere of radius 1e-22) fall into float's denormals, whose few bits would make the
-  // normal's length wrong by percents.
+  // the ray instead, so the normal is still unit length. The squares of float differences
+  // neither underflow nor overflow in double.
   const Vec3 from_center = p - center;
-  const float largest =
-      std::max({std::fabs(from_center.x), std::fabs(from_center.y), std::fabs(from_center.z)});
-  const bool has_direction = isfinite(from_center) && largest > 0.0f;
-  const Vec3 normal = has_direction ? normalize(from_center * power_of_two_near_inverse(largest))
-                                    : -normalize(ray.dir);
-  return {center + radius * normal, normal, dot(ray.dir, normal) < 0.0f,
-          surface_error(center, radius)};
+  const bool has_direction =
+      isfinite(from_center) &&
+      (from_center.x != 0.0f || from_center.y != 0.0f || from_center.z != 0.0f);
+  const Vec3 toward = has_direction ? from_center : -ray.dir;
+  const double x = toward.x, y = toward.y, z = toward.z;
+  const double length = std::sqrt(x * x + y * y + z * z);
+  const double nx = x / length, ny = y / length, nz = z / length;
+  const Vec3 point{static_cast<float>(center.x + radius * nx),
+                   static_cast<float>(center.y + radius * ny),
+                   static_cast<float>(center.z + radius * nz)};
+  const Vec3 normal{static_cast<float>(nx), static_cast<float>(ny), static_cast<float>(nz)};
+  return {point, normal, starts_outside(ray, center, radius), surface_error(point, normal, radius)};
 }
 
 // pbrt-v4's OffsetRayOrigin (Physically Based Rendering, 4th ed., section 6.8.6): the error box
