@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -82,7 +83,9 @@ using Recorder = std::function<void(int round, std::span<const Ray> rays)>;
 // The most samples of a tile traced in one call: its paths then number up to 256 times this, and
 // their light is kept apart (12 bytes each) until they are summed in sample order.
 constexpr int kSamplesPerPass = 16;
-static_assert(kWavefront * kSamplesPerPass <= 65536, "a path's entry must fit Wavefront::slot");
+static_assert(kWavefront * kSamplesPerPass - 1 <=
+                  std::numeric_limits<decltype(PathRecord::slot)>::max(),
+              "a path's entry must fit PathRecord::slot");
 
 // Traces samples [first, first + count) of every pixel of one tile, all of their paths through
 // one wavefront: per round one stream call over the live paths, then each hit adds sky light or

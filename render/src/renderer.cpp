@@ -1,5 +1,7 @@
 #include "sphray/render/renderer.hpp"
 
+#include "sphray/render/material.hpp"
+
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -29,11 +31,10 @@ constexpr std::size_t kTilePixels = kTileSize * kTileSize;
 const Vec3 kLight = normalize(Vec3{0.6f, 1.0f, 0.45f});
 constexpr float kAmbient = 0.15f;
 
-// SplitMix64's finaliser: a well-mixed 64-bit value from any counter.
+// SplitMix64's finaliser (the path tracer's, material.hpp): a well-mixed 64-bit value from any
+// counter.
 std::uint64_t mix(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
+  return PathRandom::mix(z);
 }
 
 // The offset of sample s of pixel p inside the pixel, from (p, s, seed) alone, so no thread
