@@ -456,6 +456,13 @@ TEST(CApiInfo, NamesTheActiveIsaAndTheVersion) {
     EXPECT_EQ(std::string(sphray_bvh_isa(n)), std::string(sphray::isa_name(sphray::bvh_isa(n))))
         << n;
   EXPECT_EQ(std::string(sphray_version()), std::string(sphray::kVersion));
+  // The number orders as the three parts do, and the string spells the same three.
+  EXPECT_EQ(sphray_version_number(), SPHRAY_VERSION_NUMBER);
+  EXPECT_EQ(sphray_version_number(),
+            sphray::kVersionMajor * 10000 + sphray::kVersionMinor * 100 + sphray::kVersionPatch);
+  EXPECT_EQ(std::string(sphray_version()), std::to_string(SPHRAY_VERSION_MAJOR) + "." +
+                                               std::to_string(SPHRAY_VERSION_MINOR) + "." +
+                                               std::to_string(SPHRAY_VERSION_PATCH));
 }
 
 TEST(CApiInfo, AutoAnswersLikeTheReferenceEitherSideOfTheCrossover) {

@@ -20,10 +20,11 @@ message("${output}")
 set(lib usr/${LIBDIR})
 # Each package, and the files it must hold (its directories aside, nothing more).
 set(files_libsphray0 ./${lib}/libsphray.so.0 ./${lib}/libsphray.so.${VERSION})
-# libsphray-dev: every public header of the source tree, the generated version.hpp, the rest.
+# libsphray-dev: every public header of the source tree, the generated version.h and
+# version.hpp, the rest.
 file(GLOB headers RELATIVE ${HEADER_DIR} ${HEADER_DIR}/*.h ${HEADER_DIR}/*.hpp)
 list(TRANSFORM headers PREPEND ./usr/include/sphray/)
-set(files_libsphray-dev ${headers} ./usr/include/sphray/version.hpp
+set(files_libsphray-dev ${headers} ./usr/include/sphray/version.h ./usr/include/sphray/version.hpp
     ./${lib}/libsphray.so ./${lib}/libsphray.a ./${lib}/pkgconfig/sphray.pc
     ./${lib}/cmake/sphray/sphrayConfig.cmake ./${lib}/cmake/sphray/sphrayConfigVersion.cmake
     ./${lib}/cmake/sphray/sphrayTargets.cmake ./${lib}/cmake/sphray/sphrayTargets-CONFIG.cmake)

@@ -86,6 +86,12 @@ static int fail(const char* what, int status) {
 }
 
 int main(int argc, char** argv) {
+  /* The library loaded must be the one this program was built against, or a later one. */
+  if (sphray_version_number() < SPHRAY_VERSION_NUMBER) {
+    fprintf(stderr, "built against sphray %s, but libsphray %s is loaded\n", SPHRAY_VERSION_STRING,
+            sphray_version());
+    return 1;
+  }
   if (argc != 2 && argc != 4) {
     fprintf(stderr, "usage: %s OUTPUT.ppm [WIDTH HEIGHT]\n", argv[0]);
     return 2;

@@ -27,6 +27,7 @@
 #include <stdint.h>
 
 #include "sphray/api.h"
+#include "sphray/version.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -78,8 +79,14 @@ typedef struct sphray_hit_surface {
 /* A scene: an owned copy of the spheres, and the BVH when it has one. Opaque. */
 typedef struct sphray_scene sphray_scene;
 
-/* "0.1.0": the library's version (not the ABI's: that is the SONAME's 0). */
+/* "0.1.0": the loaded library's version (not the ABI's: that is the SONAME's 0), as
+ * SPHRAY_VERSION_STRING was when it was built. */
 SPHRAY_API const char* sphray_version(void);
+
+/* The loaded library's SPHRAY_VERSION_NUMBER (10000 major + 100 minor + patch). A program can
+ * check that it runs against the version it was built with, or a later one:
+ *   if (sphray_version_number() < SPHRAY_VERSION_NUMBER) ... */
+SPHRAY_API int sphray_version_number(void);
 
 /* The instruction set the queries run on: "scalar", "sse4.2", "avx2", "avx512" or "neon"
  * (SPHRAY_ISA in the environment forces one, as for the C++ API). */

@@ -1,4 +1,5 @@
-// sphray_version, sphray_active_isa, sphray_bvh_isa, sphray_last_error, sphray_status_name.
+// sphray_version, sphray_version_number, sphray_active_isa, sphray_bvh_isa, sphray_last_error,
+// sphray_status_name.
 #include "c_api/last_error.hpp"
 #include "sphray/sphray.h"
 #include "sphray/sphray.hpp"
@@ -28,6 +29,10 @@ extern "C" {
 
 const char* sphray_version(void) {
   return sphray::kVersion;
+}
+
+int sphray_version_number(void) {
+  return SPHRAY_VERSION_NUMBER;
 }
 
 const char* sphray_active_isa(void) {
