@@ -19,8 +19,8 @@ namespace sphray::python {
 
 namespace py = pybind11;
 
-/// accel="auto" builds a SphereBVH from this many spheres on: the renderer's measured
-/// crossover (render/src/scene_queries.hpp), for the same reason.
+/// accel="auto" builds a SphereBVH from this many spheres on, as the renderer does and for the
+/// same reason: about where the tree overtakes brute force (render/src/scene_queries.hpp).
 inline constexpr std::size_t kBvhFromSpheres = 128;
 
 class Scene {

@@ -57,7 +57,8 @@ std::optional<MaterialKind> parse_material_kind(std::string_view name) {
 Vec3 PathRandom::unit_vector() {
   // Marsaglia (1972): (u, v) uniform in the unit disk by rejection (accepted with probability
   // pi/4), s = u^2 + v^2, then (2u sqrt(1 - s), 2v sqrt(1 - s), 1 - 2s) is uniform on the
-  // sphere; one square root and no trigonometry, a third of the sampling's cost with sincos.
+  // sphere; one square root and no trigonometry, much cheaper than sampling with sincos
+  // (docs/history.md, "Also tried, and the steps before the rounds").
   for (;;) {
     const float u = 2.0f * uniform() - 1.0f;
     const float v = 2.0f * uniform() - 1.0f;

@@ -15,8 +15,9 @@ namespace sphray::render {
 
 class SceneQueries final : public RayQueries {
  public:
-  /// From this many spheres on, Accel::automatic builds a BVH: the measured crossover, where the
-  /// tree starts to beat the brute-force kernel (docs/bvh.md).
+  /// From this many spheres on, Accel::automatic builds a BVH: about where the tree, one ray at
+  /// a time, overtakes the dispatched brute force (docs/performance.md, "The BVH against
+  /// Embree", its crossover).
   static constexpr std::size_t kBvhFromSpheres = 128;
 
   /// threads: how many the BVH builder may use, 0 for all (the tree is the same either way).

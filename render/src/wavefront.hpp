@@ -101,8 +101,9 @@ struct Wavefront {
 };
 
 /// The first point (u, v) of the unit disk, u^2 + v^2 = s < 1, that PathRandom::unit_vector and
-/// in_unit_disk accept drawing on from a path's counter, and the counter past it. (Drawing the
-/// first two candidates ahead and selecting, without the loop's branch, measured no faster.)
+/// in_unit_disk accept drawing on from a path's counter, and the counter past it. The plain
+/// rejection loop: drawing the first two candidates ahead and selecting, without the loop's
+/// branch, measured no faster (docs/history.md, "Also tried, and the steps before the rounds").
 struct DiskPoint {
   float u, v, s;
   std::uint64_t counter;

@@ -50,9 +50,10 @@ float away(float x, float sign) {
 
 // The lanes a float pass runs over: the live ones and those up to the next multiple of 16, the
 // widest copy's vector, so that no pass ends in a tail of lanes one at a time (GCC's epilogue:
-// scalar divisions and square roots, some 9% of shade()'s profile). The lanes past the live
-// ones hold values of earlier rounds (the tracer's wavefront is zeroed once, when made); what
-// they compute is never read. Passes that write outside the lanes stop at the live count.
+// scalar divisions and square roots, a visible share of shade()'s profile; docs/history.md,
+// "The third round: misses out before shading"). The lanes past the live ones hold values of
+// earlier rounds (the tracer's wavefront is zeroed once, when made); what they compute is never
+// read. Passes that write outside the lanes stop at the live count.
 constexpr std::size_t kLaneBlock = 16;
 static_assert(kWavefront % kLaneBlock == 0);
 std::size_t padded(std::size_t live) {
@@ -229,7 +230,8 @@ void surfaces(Wavefront& w, std::size_t lanes) {
 // Lists in w.listed the lanes of [begin, end) whose redraw flag is set, in order, and returns
 // how many: the flags of 64 lanes as the bits of a word (a loop that vectorises), then the word's
 // set bits. (A loop adding each flag to the count after storing its lane, a store and a dependent
-// add every lane, was 6% of shade()'s profile.)
+// add every lane, was a visible share of shade()'s profile; docs/history.md, "The third round:
+// misses out before shading".)
 std::size_t list_redraws(Wavefront& w, std::size_t begin, std::size_t end) {
   static_assert(kWavefront % 64 == 0);
   constexpr std::uint64_t kAll = ~std::uint64_t{0};
@@ -527,7 +529,8 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
   }
   // The new paths' records: eight at a time transposed, or one by one. All eight rows stored
   // where the array has them (the lanes past live are free): a count of rows made GCC copy them
-  // with a string instruction, which cost a fifth of start().
+  // with a string instruction, a large share of start() (docs/history.md, "The third round:
+  // misses out before shading").
   std::size_t k = begin;
   for (; kTransposes && k + 8 <= kWavefront && k < live; k += 8) {
     Floats8 records[8];

@@ -65,8 +65,9 @@ struct BruteForce {
   //
   // The view goes by reference from here on, and is copied only when clamped: the caller
   // passed it on the stack, stored a field at a time, and a block copy of it (GCC copies with
-  // vector moves) waits for those stores to retire instead of forwarding them, a stall that cost
-  // a fifth of the time of a query on a few spheres (docs/decisions.md).
+  // vector moves) waits for those stores to retire instead of forwarding them, a stall that
+  // showed in the profile of a query on a few spheres (docs/decisions.md, "Queries beyond the
+  // closest hit (issue 15)").
   static Hit intersect(const SphereView& v, const Ray& ray) {
     if (v.count > kNoHit) [[unlikely]]
       return intersect(clamp(v), ray);

@@ -57,7 +57,8 @@ struct RayLanes {
   };
 
   // A whole batch of rays of an array: each field gathered across the rays' structs
-  // (simd/stride_gather.hpp), which measured faster than copying them ray by ray.
+  // (simd/stride_gather.hpp), which measured faster than copying them ray by ray
+  // (docs/performance.md, "Rays across the lanes").
   static Fields fields(const Ray* rays, std::size_t count) {
     if (count < kWidth) return copied(rays, count);
     constexpr std::int32_t kStride = sizeof(Ray) / sizeof(float);

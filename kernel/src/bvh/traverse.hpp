@@ -45,8 +45,9 @@ struct BvhTraversal {
 
   // The same, inline wherever it is called: the stream's loops (bvh/stream.hpp), whichever
   // layout their rays come in. Left to itself GCC inlined intersect() into the loop over Rays
-  // but not into the one over RayColumns (5% slower on bounce rays); forcing it into every
-  // caller made the single-ray call 6-10% slower (its four forms inlined into one function).
+  // but not into the one over RayColumns, which ran slower; forcing it into every caller made
+  // the single-ray call slower (its four forms inlined into one function). Measured in
+  // docs/decisions.md, "Rays as arrays per quantity (issue 12)".
   template <bool kBranchFree, bool kMasked>
   SPHRAY_FORCE_INLINE static Hit intersect_inlined(const BvhData& bvh, const Ray& ray) {
     typename Batch::RaySetup s;

@@ -97,10 +97,11 @@ struct Choice {
       by_count[n] = narrowest_fit(n);
   }
 
-  // A batch costs its full width whatever it holds: measured, a kernel beats the narrower ones
-  // once the view fills about two thirds of one batch, and a single sphere is fastest in the
-  // scalar loop (docs/performance.md). The widest kernel no wider than the active one whose
-  // width is at most max(4, 1.5 n), or the scalar one below kScalarBelow spheres.
+  // A batch costs its full width whatever it holds, so a kernel pays off over the narrower ones
+  // only once the view fills most of one batch, and a single sphere is fastest in the scalar
+  // loop (docs/kernel.md, "The SIMD algorithm"; docs/performance.md, "Rays per second"). The
+  // widest kernel no wider than the active one whose width is at most max(4, 1.5 n), or the
+  // scalar one below kScalarBelow spheres.
   const EntryTable* narrowest_fit(std::size_t n) const {
     const std::size_t widest = detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(n)
                                    ? 1

@@ -11,8 +11,8 @@
 namespace sphray {
 
 // Views below kScalarBelow spheres go straight to the scalar loop, as entries_for_size() would
-// send them: a ray against one sphere takes a few nanoseconds, and looking the kernel up measured
-// a fifth of that.
+// send them: a ray against one sphere costs so little that looking the kernel up is a sizeable
+// share of it (docs/history.md, "Small scenes against Embree: the targets still missed").
 Hit intersect(SphereView spheres, const Ray& ray) {
   if (detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(spheres.count))
     return scalar::intersect(spheres, ray);

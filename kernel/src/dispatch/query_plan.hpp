@@ -44,10 +44,11 @@ struct QueryPlan {
 
   // 2. Where a point of the tree's box lies in kBvhBranchFreeOverlap leaf boxes or more on
   // average, a scattered ray tests several leaves, and the leaf test's branches are coin
-  // tosses: the tree takes the branch-free test (bvh/leaf_test.hpp). random:4096 has 1.80,
-  // random:65536 2.09, rtiow-final 1.00; the small random trees 1.31 (192 spheres, 16 wide) to
-  // 1.49 (512), where the branch-free test is 4-17% faster on incoherent rays and within the
-  // noise on coherent ones: hence 1.25, not 1.5 (docs/bvh.md, "Leaves").
+  // tosses: the tree takes the branch-free test (bvh/leaf_test.hpp). Sparse scenes such as
+  // rtiow-final stay below the line and keep the branching test. The small random trees lie
+  // between 1.25 and 1.5, and there the branch-free test is faster on incoherent rays and within
+  // the noise on coherent ones: hence 1.25, not 1.5 (docs/bvh.md, "Leaves"; the overlaps and
+  // timings: docs/history.md, "Leaves").
   static bool branch_free_leaves(const BvhData& bvh) {
     return bvh.leaf_overlap >= kBvhBranchFreeOverlap;
   }
@@ -75,9 +76,10 @@ struct QueryPlan {
   static bool walks_in_turns(const BvhData& bvh, const Rays& rays, std::size_t n) {
     return beyond_caches(bvh) && scattered(rays, n);
   }
-  // On such a tree the packets (bvh/packet.hpp) prefetch the nodes and leaves they push:
-  // random:1048576's shadow rays ran 2-4% faster (two interleaved runs, medians of 9), camera
-  // rays the same; on smaller trees it measured 3-6% slower on rtiow-final's shadow rays.
+  // On such a tree the packets (bvh/packet.hpp) prefetch the nodes and leaves they push: it
+  // made the million-sphere tree's shadow rays a little faster and left camera rays as they
+  // were, but slowed rtiow-final's shadow rays on a tree that fits in the caches
+  // (docs/history.md, "Shadow rays: packet leaves (issue 19, third round)").
   static bool beyond_caches(const BvhData& bvh) {
     return bvh.node_count != 0 && bvh.memory_bytes > kInTurnsAbove;
   }
@@ -102,9 +104,10 @@ struct QueryPlan {
   // (build.cpp), and answers as brute force on them (dispatch/entry_points.hpp): below that, a
   // scattered ray pays more for the walk's box tests, stack and mispredicted branches than for
   // the batches they skip, and the tree reads the very batches brute force reads, so it is
-  // never slower than brute force on its own spheres. Measured with `sphray bench` on random
-  // scenes, incoherent rays (docs/performance.md, "Small trees"): the walk overtakes between 8
-  // and 10 leaves on both widths (about 128 spheres for the 16-wide tree, 80 for the 8-wide).
+  // never slower than brute force on its own spheres. The limit is where the walk overtook
+  // brute force on random scenes and incoherent rays, on both widths, and is in leaves rather
+  // than spheres for that reason (docs/decisions.md, "The tree's instruction set, small trees
+  // and `sphray bench` (issue 19)"; docs/history.md, "Small trees").
   static bool brute_force_tree(const BvhData& bvh) { return bvh.flat; }
 
   // 6. A packet of coherent rays tests a node's children once for all its rays, as an interval
@@ -153,12 +156,12 @@ struct QueryPlan {
   // their lines. The rays of a window's groups that coherent() turned down, if all but one in 8
   // at most point within kPacketCosine of the first one's, are sorted by where their lines
   // cross a plane across their main axis, and each kPacketRays of that order whose lines cross
-  // it within kLineSpan of the tree's extent go as a packet (bvh/line_packet.hpp). Measured on
-  // the sun's shadow rays (docs/bvh.md, "Line packets"): 1/16 leaves 60% of random:4096's rays
-  // alone, 1/4 about 10%, and runs 1.5-1.7x faster than 1/16 on random:4096 and random:65536;
-  // with no limit (every group a packet) it loses 10-25% to 1/4. Groups that coherent() takes
-  // stay consecutive packets: on rtiow-final's shadow rays, whose neighbours start close, line
-  // packets for whole chunks ran 30% slower. Stops as soon as too many rays point elsewhere.
+  // it within kLineSpan of the tree's extent go as a packet (bvh/line_packet.hpp). On the sun's
+  // shadow rays a tighter span leaves many more rays alone and runs slower, and no limit (every
+  // group a packet) loses to 1/4 too. Groups that coherent() takes stay consecutive packets:
+  // on rtiow-final's shadow rays, whose neighbours start close, line packets for whole chunks
+  // ran slower. Measured in docs/history.md, "Layout, traversal and packets". Stops as soon as
+  // too many rays point elsewhere.
   static constexpr float kLineSpan = 1.0f / 4.0f;
   template <class Rays>
   static bool lines(const Rays& rays, const std::uint16_t* index, std::size_t n) {
@@ -178,20 +181,18 @@ struct QueryPlan {
 
   // 7 (cont.). The occlusion stream sorts lines over windows of kLineWindow rays (four of the
   // stream's chunks), not one chunk: the denser a window's lines, the tighter its packets and
-  // the fewer rays left alone (on random:4096's sun shadow rays the rays alone took 15% of the
-  // time with 1024, 4-7% with 4096; 8192 and 16384 measured no faster than 4096). The sort
-  // keeps 8 bytes a ray on the stack (bvh/line_packet.hpp).
+  // the fewer rays left alone; larger windows measured no faster (docs/history.md, "Layout,
+  // traversal and packets"). The sort keeps 8 bytes a ray on the stack (bvh/line_packet.hpp).
   static constexpr std::size_t kLineWindow = 4096;
 
   // 8. At a leaf, an occlusion packet's rays that enter the leaf's box take the leaf test either
   // one ray at a time (a batch of the leaf's spheres per ray: LeafTest::any_hit) or with the
   // rays in the lanes and one sphere at a time (LeafTest::any_hit_across: a batch of rays per
   // sphere), the same answer either way. The first costs a step per ray, the second a step per
-  // sphere for up to a batch of rays at once, with fewer branches. Measured on the sun's shadow
-  // rays (docs/performance.md, "Shadow rays: packet leaves"): one ray at a time everywhere was
-  // 2-48% slower than this rule, rays in lanes everywhere 16% slower on random:65536; rays in
-  // lanes from as many rays as spheres, or from a quarter as many, measured as this rule
-  // (from half as many) within the noise.
+  // sphere for up to a batch of rays at once, with fewer branches. On the sun's shadow rays
+  // both one ray at a time everywhere and rays in lanes everywhere ran slower than this rule,
+  // and lines a little either side of it (as many rays as spheres, a quarter as many) within
+  // the noise of it (docs/history.md, "Shadow rays: packet leaves (issue 19, third round)").
   static bool leaf_across(std::size_t rays, std::size_t spheres) { return 2 * rays >= spheres; }
 
   // 9. A stream on a view of few spheres puts its rays in the lanes, a batch of rays against
@@ -199,14 +200,13 @@ struct QueryPlan {
   // spheres: a batch of spheres is then mostly padding, and each ray pays its set-up and the
   // horizontal reduction for a handful of sphere tests. Rays across the lanes test every sphere
   // for every ray, with no pre-test skipping the spheres far from the ray, so one ray at a time
-  // wins again on larger views. Measured with `sphray bench` on random scenes of 1 to 64
-  // spheres, camera and random rays, the 16-wide rows against the dispatched one-ray kernel
-  // (docs/performance.md, "Rays across the lanes"): camera rays break even at kAcrossUpTo
-  // spheres, random rays a little beyond 64. The rule does not look at the stream's length
-  // (not measured: the renderer's streams are a tile's rays, hundreds at least; a stream
-  // shorter than a batch leaves lanes empty). The widest instruction set takes such streams
-  // (query.cpp): it measured the fastest but against 1 or 2 spheres, where the 8-wide rows led
-  // by a few percent on one of the two kinds of rays. Same bits either way.
+  // wins again on larger views. kAcrossUpTo is where camera rays, the first to lose, break
+  // even against the dispatched one-ray kernel; random rays gain beyond it (docs/performance.md,
+  // "Rays across the lanes"). The rule does not look at the stream's length (not measured: the
+  // renderer's streams are a tile's rays, hundreds at least; a stream shorter than a batch
+  // leaves lanes empty). The widest instruction set takes such streams (query.cpp): it measured
+  // the fastest but on the smallest views, where the 8-wide rows led on one of the two kinds of
+  // rays. Same bits either way.
   static constexpr std::size_t kAcrossUpTo = 48;
   static bool rays_across(std::size_t sphere_count) { return sphere_count <= kAcrossUpTo; }
 };

@@ -14,17 +14,16 @@ struct TreeIsaRule {
 };
 
 // Lines per CPU family measured with `sphray bench` (the avx2 and avx512 tree and stream rows
-// side by side, camera and random rays; docs/decisions.md, "The tree's instruction set per
-// CPU"); for a family, the last line whose size a tree reaches holds. A family without a line
-// takes the widest instruction set, as the brute force does.
-// - AMD family 0x1A (Zen 5, EPYC 9005): the 16-wide tree walks random scenes of 4096 to
-//   1048576 spheres 1-40% faster than the 8-wide one, rtiow-final 2-14% slower: avx512, the
-//   widest, at every size.
+// side by side, camera and random rays; docs/decisions.md, "The tree's instruction set, small
+// trees and `sphray bench` (issue 19)"); for a family, the last line whose size a tree reaches
+// holds. A family without a line takes the widest instruction set, as the brute force does.
+// - AMD family 0x1A (Zen 5, EPYC 9005): the 16-wide tree walks the random scenes of 4096 to
+//   1048576 spheres faster than the 8-wide one and only rtiow-final slower, a property of that
+//   scene: avx512, the widest, at every size.
 // - AMD family 0x19 (Zen 4, EPYC 9004, which runs a 512-bit instruction as two 256-bit
-//   halves): the 8-wide tree is 4-35% faster on rtiow-final (486 spheres) and random:512, per
-//   ray and in the stream; at 1024 spheres the two are even (0.94-1.03x), and from 2048 on the
-//   16-wide one wins (4-34%, most on the stream's packets): avx2 below 1024 spheres, avx512
-//   from there.
+//   halves): the 8-wide tree is faster on rtiow-final (486 spheres) and random:512, per ray and
+//   in the stream; at 1024 spheres the two are even, and from 2048 on the 16-wide one wins,
+//   most on the stream's packets: avx2 below 1024 spheres, avx512 from there.
 constexpr std::array kTreeIsaRules = {
     TreeIsaRule{CpuVendor::amd, 0x1a, 0, Isa::avx512},
     TreeIsaRule{CpuVendor::amd, 0x19, 0, Isa::avx2},

@@ -1,7 +1,7 @@
 // The hot steps of the per-ISA kernels (a batch's roots, a node's box test, a walk's step) are
-// inlined whatever the size of their unit: GCC's unit-wide growth limit otherwise decides, and,
-// measured, the masked instantiations pushed the closest hit's inner steps out of line and cost
-// it 7 to 23% (docs/decisions.md, "Queries beyond the closest hit").
+// inlined whatever the size of their unit: GCC's unit-wide growth limit otherwise decides, and
+// the masked instantiations pushed the closest hit's inner steps out of line and slowed it
+// (docs/decisions.md, "Queries beyond the closest hit (issue 15)").
 #pragma once
 
 #if defined(__GNUC__)

@@ -2,9 +2,9 @@
 // architecture. Class template over A, like everything the per-ISA units include.
 //
 // On x86 this is what minps and maxps do (the Intel SDM defines them as exactly these
-// comparisons), so one instruction; a compare and a blend cost a tree's leaf test 2-3 %
-// (docs/kernel.md, "One answer on every instruction set"). NEON's vminq/vmaxq return NaN
-// instead, so other architectures compare and select.
+// comparisons), so one instruction, where a compare and a blend slowed a tree's leaf test
+// (docs/history.md, "The kernel without FMA"). NEON's vminq/vmaxq return NaN instead, so other
+// architectures compare and select.
 #pragma once
 
 #include <xsimd/xsimd.hpp>

@@ -1,7 +1,7 @@
 // Lane k of a batch from src[k * stride]: one field of consecutive structs, read across them.
 // xsimd's gather where it serves: gather instructions (AVX2), or loads into lanes (SSE4.2,
-// NEON). On AVX-512, two 8-lane gathers joined: the 16-lane gather instructions measured
-// several times slower than that on AMD Zen 4 (docs/performance.md, "Rays across the lanes").
+// NEON). On AVX-512, two 8-lane gathers joined: the 16-lane gather instructions measured far
+// slower than that on AMD Zen 4 (docs/performance.md, "Rays across the lanes").
 // Class template over A, like everything the per-ISA units include.
 #pragma once
 
