@@ -304,6 +304,12 @@ TEST_P(CApiAgreement, QueriesBeyondTheClosestHitMatchTheCppApi) {
                                  counts.data()),
             SPHRAY_OK);
   ASSERT_EQ(sphray_count_hits(scene_, rays_.data(), only.data(), n), SPHRAY_OK);
+  std::vector<sphray_hit> nearest(n * kSlots, sphray_hit{-1.0f, 7});
+  std::vector<unsigned char> nearest_exits(n * kSlots, 9);
+  std::vector<size_t> written(n);
+  ASSERT_EQ(sphray_intersect_nearest(scene_, rays_.data(), n, kSlots, nearest.data(),
+                                     nearest_exits.data(), written.data()),
+            SPHRAY_OK);
   std::size_t crossings = 0;
   for (std::size_t i = 0; i < n; ++i) {
     sphray::Hit want[kSlots];
@@ -313,6 +319,14 @@ TEST_P(CApiAgreement, QueriesBeyondTheClosestHitMatchTheCppApi) {
                                    : sphray::intersect_all(spheres_.view(), ray, want, want_exit);
     ASSERT_EQ(counts[i], total) << "ray " << i;
     ASSERT_EQ(only[i], total) << "ray " << i;
+    // The nearest crossings alone: intersect_all's first slots, how many written.
+    ASSERT_EQ(written[i], std::min(total, kSlots)) << "ray " << i;
+    for (std::size_t k = 0; k < kSlots; ++k) {
+      const std::size_t slot = i * kSlots + k;
+      ASSERT_TRUE(nearest[slot].id == hits[slot].id && same_bits(nearest[slot].t, hits[slot].t))
+          << "ray " << i;
+      ASSERT_EQ(nearest_exits[slot], exits[slot]) << "ray " << i;
+    }
     crossings += total;
     for (std::size_t k = 0; k < kSlots; ++k) {
       const sphray_hit& got = hits[i * kSlots + k];
@@ -401,6 +415,11 @@ TEST_P(CApiAgreement, MaskedQueriesMatchTheCppApi) {
   ASSERT_EQ(sphray_intersect_all_masked(scene_, rays_.data(), ray_masks.data(), n, kSlots,
                                         all.data(), nullptr, all_counts.data()),
             SPHRAY_OK);
+  std::vector<sphray_hit> nearest(n * kSlots);
+  std::vector<size_t> written(n);
+  ASSERT_EQ(sphray_intersect_nearest_masked(scene_, rays_.data(), ray_masks.data(), n, kSlots,
+                                            nearest.data(), nullptr, written.data()),
+            SPHRAY_OK);
   std::size_t hidden = 0;  // rays whose closest hit the masks changed
   for (std::size_t i = 0; i < n; ++i) {
     const sphray::Ray ray = cpp_ray(i);
@@ -418,6 +437,12 @@ TEST_P(CApiAgreement, MaskedQueriesMatchTheCppApi) {
         bvh_ ? sphray::count_hits(*bvh_, ray) : sphray::count_hits(spheres_.view(), ray);
     ASSERT_EQ(counts[i], want_count) << "ray " << i;
     ASSERT_EQ(all_counts[i], want_count) << "ray " << i;
+    ASSERT_EQ(written[i], std::min(want_count, kSlots)) << "ray " << i;
+    for (std::size_t k = 0; k < written[i]; ++k) {
+      const std::size_t slot = i * kSlots + k;
+      ASSERT_TRUE(nearest[slot].id == all[slot].id && same_bits(nearest[slot].t, all[slot].t))
+          << "ray " << i;
+    }
     if (want.id != cpp_intersect(rays_[i]).id) ++hidden;
     if (ray_masks[i] == 0) {
       ASSERT_EQ(hits[i].id, SPHRAY_NO_HIT) << "ray " << i;

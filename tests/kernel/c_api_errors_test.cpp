@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <sphray/sphray.h>
@@ -181,19 +182,32 @@ TEST_F(CApiErrors, QueriesBeyondTheClosestHitRefuseBadArguments) {
   unsigned char in[2];
   sphray_nearest_sphere near[2];
   const float points[6] = {0, 0, -1, 9, 9, 9};
-  const char* f = "sphray_intersect_all";
-  expect_failure(sphray_intersect_all(scene, nullptr, 2, 2, all, nullptr, counts),
-                 SPHRAY_ERROR_NULL_POINTER, f, "rays is NULL");
-  expect_failure(sphray_intersect_all(scene, rays, 2, 2, all, nullptr, nullptr),
-                 SPHRAY_ERROR_NULL_POINTER, f, "output array is NULL");
-  expect_failure(sphray_intersect_all(scene, rays, 2, 2, nullptr, nullptr, counts),
-                 SPHRAY_ERROR_NULL_POINTER, f, "hits is NULL");
-  expect_failure(sphray_intersect_all(scene, rays, 2, PTRDIFF_MAX, all, nullptr, counts),
-                 SPHRAY_ERROR_TOO_LARGE, f, "max_hits");
+  // Every crossing and the nearest alone take the same arguments and the same checks.
+  using Crossings = int (*)(const sphray_scene*, const sphray_ray*, size_t, size_t, sphray_hit*,
+                            unsigned char*, size_t*);
+  const std::pair<Crossings, const char*> calls[] = {
+      {sphray_intersect_all, "sphray_intersect_all"},
+      {sphray_intersect_nearest, "sphray_intersect_nearest"}};
+  for (const auto& [call, f] : calls) {
+    expect_failure(call(scene, nullptr, 2, 2, all, nullptr, counts), SPHRAY_ERROR_NULL_POINTER, f,
+                   "rays is NULL");
+    expect_failure(call(scene, rays, 2, 2, all, nullptr, nullptr), SPHRAY_ERROR_NULL_POINTER, f,
+                   "output array is NULL");
+    expect_failure(call(scene, rays, 2, 2, nullptr, nullptr, counts), SPHRAY_ERROR_NULL_POINTER, f,
+                   "hits is NULL");
+    expect_failure(call(scene, rays, 2, PTRDIFF_MAX, all, nullptr, counts), SPHRAY_ERROR_TOO_LARGE,
+                   f, "max_hits");
+  }
   // Counts only, without hits: the first ray crosses sphere 0 twice, the second nothing.
   ASSERT_EQ(sphray_intersect_all(scene, rays, 2, 0, nullptr, nullptr, counts), SPHRAY_OK);
   EXPECT_EQ(counts[0], 2u);
   EXPECT_EQ(counts[1], 0u);
+  // The nearest alone counts how many it wrote: one slot for the first ray's two crossings.
+  ASSERT_EQ(sphray_intersect_nearest(scene, rays, 2, 1, all, nullptr, counts), SPHRAY_OK);
+  EXPECT_EQ(counts[0], 1u);
+  EXPECT_EQ(counts[1], 0u);
+  expect_failure(sphray_intersect_nearest_masked(scene, rays, nullptr, 2, 1, all, nullptr, counts),
+                 SPHRAY_ERROR_NULL_POINTER, "sphray_intersect_nearest_masked", "masks is NULL");
   expect_failure(sphray_count_hits(scene, rays, nullptr, 2), SPHRAY_ERROR_NULL_POINTER,
                  "sphray_count_hits", "output array is NULL");
   // The masked forms: the masks array is required, the rest checked as in the plain forms.
@@ -212,7 +226,7 @@ TEST_F(CApiErrors, QueriesBeyondTheClosestHitRefuseBadArguments) {
                  "sphray_scene_set_masks", "scene is NULL");
   expect_failure(sphray_nearest(scene, nullptr, INFINITY, near, 2), SPHRAY_ERROR_NULL_POINTER,
                  "sphray_nearest", "is NULL");
-  f = "sphray_overlapping";
+  const char* f = "sphray_overlapping";
   expect_failure(sphray_overlapping(scene, nullptr, 1.0f, nullptr, 0, &total),
                  SPHRAY_ERROR_NULL_POINTER, f, "centre is NULL");
   expect_failure(sphray_overlapping(scene, points, 1.0f, nullptr, 0, nullptr),
@@ -261,6 +275,8 @@ TEST_F(CApiErrors, AReleasedSceneIsReportedEverywhere) {
                  "released");
   expect_failure(sphray_intersect_all(released, rays, 2, 2, nullptr, nullptr, counts), gone,
                  "sphray_intersect_all", "released");
+  expect_failure(sphray_intersect_nearest(released, rays, 2, 2, nullptr, nullptr, counts), gone,
+                 "sphray_intersect_nearest", "released");
   expect_failure(sphray_nearest(released, points, INFINITY, near, 2), gone, "sphray_nearest",
                  "released");
   expect_failure(sphray_inside(released, points, occluded, 2), gone, "sphray_inside", "released");

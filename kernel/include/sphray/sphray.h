@@ -209,16 +209,30 @@ SPHRAY_API int sphray_intersect_all(const sphray_scene* scene, const sphray_ray*
                                     size_t max_hits, sphray_hit* hits, unsigned char* exits,
                                     size_t* counts);
 
+/* The nearest max_hits crossings of each ray alone: sphray_intersect_all's first max_hits, bit
+ * for bit, into the same slots, with counts[i] = how many were written (at most max_hits), not
+ * the total. Through a BVH the walk stops at the max_hits-th crossing found so far, as the
+ * closest hit stops at the first (k-buffers, the first layers of transparency). Errors as
+ * sphray_intersect_all. */
+SPHRAY_API int sphray_intersect_nearest(const sphray_scene* scene, const sphray_ray* rays,
+                                        size_t count, size_t max_hits, sphray_hit* hits,
+                                        unsigned char* exits, size_t* counts);
+
 /* counts[i] = the number of crossings of rays[i] in (tmin, tmax). */
 SPHRAY_API int sphray_count_hits(const sphray_scene* scene, const sphray_ray* rays, size_t* counts,
                                  size_t count);
 
-/* sphray_intersect_all and sphray_count_hits for rays with masks: ray i has the mask masks[i]. */
+/* sphray_intersect_all, sphray_count_hits and sphray_intersect_nearest for rays with masks: ray i
+ * has the mask masks[i]. */
 SPHRAY_API int sphray_intersect_all_masked(const sphray_scene* scene, const sphray_ray* rays,
                                            const uint32_t* masks, size_t count, size_t max_hits,
                                            sphray_hit* hits, unsigned char* exits, size_t* counts);
 SPHRAY_API int sphray_count_hits_masked(const sphray_scene* scene, const sphray_ray* rays,
                                         const uint32_t* masks, size_t* counts, size_t count);
+SPHRAY_API int sphray_intersect_nearest_masked(const sphray_scene* scene, const sphray_ray* rays,
+                                               const uint32_t* masks, size_t count, size_t max_hits,
+                                               sphray_hit* hits, unsigned char* exits,
+                                               size_t* counts);
 
 /* The sphere nearest a point by signed distance to its surface, |p - c| - r (negative inside),
  * among those at most max_distance away (INFINITY: any); id SPHRAY_NO_HIT, distance

@@ -1,4 +1,5 @@
-// sphray_intersect_all, sphray_count_hits, sphray_nearest, sphray_inside, sphray_overlapping:
+// sphray_intersect_all, sphray_intersect_nearest, sphray_count_hits, sphray_nearest,
+// sphray_inside, sphray_overlapping:
 // the queries beyond the closest hit (docs/queries.md), converted to and from the C structs,
 // answered by the C++ API.
 #include <algorithm>
@@ -20,12 +21,19 @@ namespace {
 // heap, made once per call.
 constexpr std::size_t kStackSlots = 64;
 
+// Which crossings a call wants: every one, counted (intersect_all), or the nearest slots alone
+// (intersect_nearest).
+enum class Crossings { all, nearest };
+
 // The crossings of one ray into its slots of hits and exits, through slots and flags (the C++
-// types: sphray_hit and unsigned char are other types); returns the total.
-std::size_t crossings(const Scene& scene, const Ray& ray, std::span<Hit> slots,
+// types: sphray_hit and unsigned char are other types); returns the total (all) or how many
+// were written (nearest).
+std::size_t crossings(const Scene& scene, Crossings which, const Ray& ray, std::span<Hit> slots,
                       std::span<bool> flags, sphray_hit* hits, unsigned char* exits) {
-  const std::size_t total = scene.answer(
-      [&](const auto& spheres) { return sphray::intersect_all(spheres, ray, slots, flags); });
+  const std::size_t total = scene.answer([&](const auto& spheres) {
+    return which == Crossings::all ? sphray::intersect_all(spheres, ray, slots, flags)
+                                   : sphray::intersect_nearest(spheres, ray, slots, flags);
+  });
   for (std::size_t k = 0; k < std::min(slots.size(), total); ++k) {
     hits[k] = {slots[k].t, slots[k].id};
     if (exits != nullptr) exits[k] = flags[k] ? 1 : 0;
@@ -33,9 +41,9 @@ std::size_t crossings(const Scene& scene, const Ray& ray, std::span<Hit> slots,
   return total;
 }
 
-int intersect_all(const sphray_scene* scene, const sphray_ray* rays, const std::uint32_t* masks,
-                  size_t count, size_t max_hits, sphray_hit* hits, unsigned char* exits,
-                  size_t* counts, const char* function) {
+int intersect_all(const sphray_scene* scene, Crossings which, const sphray_ray* rays,
+                  const std::uint32_t* masks, size_t count, size_t max_hits, sphray_hit* hits,
+                  unsigned char* exits, size_t* counts, const char* function) {
   if (count == 0) return check_scene(scene, function);  // empty work
   if (int status = check_query(scene, rays, counts, count, function); status != SPHRAY_OK)
     return status;
@@ -59,12 +67,23 @@ int intersect_all(const sphray_scene* scene, const sphray_ray* rays, const std::
       flags = std::span<bool>(heap_flags.get(), max_hits);
     }
     for (std::size_t i = 0; i < count; ++i) {
-      counts[i] = crossings(*scene->scene, to_ray(rays, masks, i), slots, flags,
+      counts[i] = crossings(*scene->scene, which, to_ray(rays, masks, i), slots, flags,
                             hits == nullptr ? nullptr : hits + i * max_hits,
                             exits == nullptr ? nullptr : exits + i * max_hits);
     }
     return SPHRAY_OK;
   });
+}
+
+// The masked forms: the masks array is required, the rest as the plain forms check it.
+int intersect_all_masked(const sphray_scene* scene, Crossings which, const sphray_ray* rays,
+                         const std::uint32_t* masks, size_t count, size_t max_hits,
+                         sphray_hit* hits, unsigned char* exits, size_t* counts,
+                         const char* function) {
+  if (count == 0) return check_scene(scene, function);  // empty work
+  if (int status = check_pointer(masks, function, "masks is NULL"); status != SPHRAY_OK)
+    return status;
+  return intersect_all(scene, which, rays, masks, count, max_hits, hits, exits, counts, function);
 }
 
 int count_hits(const sphray_scene* scene, const sphray_ray* rays, const std::uint32_t* masks,
@@ -90,18 +109,29 @@ extern "C" {
 
 int sphray_intersect_all(const sphray_scene* scene, const sphray_ray* rays, size_t count,
                          size_t max_hits, sphray_hit* hits, unsigned char* exits, size_t* counts) {
-  return intersect_all(scene, rays, nullptr, count, max_hits, hits, exits, counts,
+  return intersect_all(scene, Crossings::all, rays, nullptr, count, max_hits, hits, exits, counts,
                        "sphray_intersect_all");
 }
 
 int sphray_intersect_all_masked(const sphray_scene* scene, const sphray_ray* rays,
                                 const uint32_t* masks, size_t count, size_t max_hits,
                                 sphray_hit* hits, unsigned char* exits, size_t* counts) {
-  constexpr const char* kFunction = "sphray_intersect_all_masked";
-  if (count == 0) return check_scene(scene, kFunction);  // empty work
-  if (int status = check_pointer(masks, kFunction, "masks is NULL"); status != SPHRAY_OK)
-    return status;
-  return intersect_all(scene, rays, masks, count, max_hits, hits, exits, counts, kFunction);
+  return intersect_all_masked(scene, Crossings::all, rays, masks, count, max_hits, hits, exits,
+                              counts, "sphray_intersect_all_masked");
+}
+
+int sphray_intersect_nearest(const sphray_scene* scene, const sphray_ray* rays, size_t count,
+                             size_t max_hits, sphray_hit* hits, unsigned char* exits,
+                             size_t* counts) {
+  return intersect_all(scene, Crossings::nearest, rays, nullptr, count, max_hits, hits, exits,
+                       counts, "sphray_intersect_nearest");
+}
+
+int sphray_intersect_nearest_masked(const sphray_scene* scene, const sphray_ray* rays,
+                                    const uint32_t* masks, size_t count, size_t max_hits,
+                                    sphray_hit* hits, unsigned char* exits, size_t* counts) {
+  return intersect_all_masked(scene, Crossings::nearest, rays, masks, count, max_hits, hits, exits,
+                              counts, "sphray_intersect_nearest_masked");
 }
 
 int sphray_count_hits(const sphray_scene* scene, const sphray_ray* rays, size_t* counts,
