@@ -1,7 +1,7 @@
 """Fast, exact ray/sphere intersection on numpy arrays (type stubs for the extension)."""
 
 from os import PathLike
-from typing import Any, Dict, Literal, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Literal, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -12,6 +12,46 @@ NO_HIT: int
 
 _ArrayLike = npt.ArrayLike
 _Bound = Union[float, npt.ArrayLike]
+
+class Hits(NamedTuple):
+    """Scene.intersect()'s closest hit of each ray. Unpacks as t, ids = ..."""
+
+    t: npt.NDArray[np.float32]
+    ids: npt.NDArray[np.uint32]
+
+class Surface(NamedTuple):
+    """Scene.surface(), where each ray meets its hit."""
+
+    points: npt.NDArray[np.float32]
+    normals: npt.NDArray[np.float32]
+    front_face: npt.NDArray[np.bool_]
+
+class Crossings(NamedTuple):
+    """Scene.intersect_all(), every crossing of each ray."""
+
+    t: npt.NDArray[np.float32]
+    ids: npt.NDArray[np.uint32]
+    exits: npt.NDArray[np.bool_]
+    counts: npt.NDArray[np.uint64]
+
+class Nearest(NamedTuple):
+    """Scene.nearest(), the sphere nearest each point."""
+
+    ids: npt.NDArray[np.uint32]
+    distances: npt.NDArray[np.float32]
+    surface_points: npt.NDArray[np.float32]
+
+class Overlaps(NamedTuple):
+    """Scene.overlaps(): ball i's spheres are ids[offsets[i]:offsets[i + 1]]."""
+
+    offsets: npt.NDArray[np.int64]
+    ids: npt.NDArray[np.uint32]
+
+class Rays(NamedTuple):
+    """pinhole_rays(), one camera ray through each pixel."""
+
+    origins: npt.NDArray[np.float32]
+    directions: npt.NDArray[np.float32]
 
 class Scene:
     """Spheres to trace rays against: Scene(centers (N, 3), radii (N,), accel="auto")."""
@@ -30,8 +70,8 @@ class Scene:
         tmin: _Bound = 0.0,
         tmax: _Bound = float("inf"),
         mask: Union[int, npt.ArrayLike] = 0xFFFFFFFF,
-    ) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.uint32]]:
-        """Closest hit of each ray: (t, ids); a miss has ids == NO_HIT and t == tmax."""
+    ) -> Hits:
+        """Closest hit of each ray: Hits(t, ids); a miss has ids == NO_HIT and t == tmax."""
     def occluded(
         self,
         origins: _ArrayLike,
@@ -47,8 +87,8 @@ class Scene:
         directions: _ArrayLike,
         t: _ArrayLike,
         ids: _ArrayLike,
-    ) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32], npt.NDArray[np.bool_]]:
-        """(points, outward unit normals, front_face) where each ray meets its hit."""
+    ) -> Surface:
+        """Surface(points, outward unit normals, front_face) where each ray meets its hit."""
     def spawn(
         self,
         origins: _ArrayLike,
@@ -66,13 +106,8 @@ class Scene:
         tmin: _Bound = 0.0,
         tmax: _Bound = float("inf"),
         mask: Union[int, npt.ArrayLike] = 0xFFFFFFFF,
-    ) -> Tuple[
-        npt.NDArray[np.float32],
-        npt.NDArray[np.uint32],
-        npt.NDArray[np.bool_],
-        npt.NDArray[np.uint64],
-    ]:
-        """(t, ids, exits, counts): every crossing of each ray, the first max_hits sorted."""
+    ) -> Crossings:
+        """Crossings(t, ids, exits, counts): every crossing of each ray; max_hits of them sorted."""
     def count_hits(
         self,
         origins: _ArrayLike,
@@ -82,18 +117,14 @@ class Scene:
         mask: Union[int, npt.ArrayLike] = 0xFFFFFFFF,
     ) -> npt.NDArray[np.uint64]:
         """The number of crossings of each ray in (tmin, tmax)."""
-    def nearest(
-        self, points: _ArrayLike, max_distance: float = float("inf")
-    ) -> Tuple[npt.NDArray[np.uint32], npt.NDArray[np.float32], npt.NDArray[np.float32]]:
-        """(ids, signed distances, closest surface points) of the sphere nearest each point."""
+    def nearest(self, points: _ArrayLike, max_distance: float = float("inf")) -> Nearest:
+        """Nearest(ids, distances, surface_points) of the sphere nearest each point."""
     def inside(self, points: _ArrayLike) -> npt.NDArray[np.bool_]:
         """Whether each point lies inside any sphere."""
     def overlapping(self, centre: _ArrayLike, radius: float) -> npt.NDArray[np.uint32]:
         """The ids of the spheres overlapping a ball, ascending."""
-    def overlaps(
-        self, centers: _ArrayLike, radii: _ArrayLike
-    ) -> Tuple[npt.NDArray[np.int64], npt.NDArray[np.uint32]]:
-        """(offsets, ids): ball i's overlapping spheres in ids[offsets[i]:offsets[i + 1]]."""
+    def overlaps(self, centers: _ArrayLike, radii: _ArrayLike) -> Overlaps:
+        """Overlaps(offsets, ids): ball i's spheres are ids[offsets[i]:offsets[i + 1]]."""
     def overlapping_pairs(self) -> npt.NDArray[np.uint32]:
         """(P, 2): the pairs (i, j), i < j, of the scene's spheres where j overlaps ball i."""
     def refit(
@@ -117,8 +148,8 @@ def pinhole_rays(
     vfov_deg: float,
     width: int,
     height: int,
-) -> Tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]:
-    """(origins, unit directions), each (height, width, 3) float32, row 0 at the top."""
+) -> Rays:
+    """Rays(origins, unit directions), each (height, width, 3) float32, row 0 at the top."""
 
 def render(
     scene: Union[str, "PathLike[str]", Scene, Tuple[_ArrayLike, _ArrayLike]] = "rtiow-final",

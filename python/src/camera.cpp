@@ -6,6 +6,7 @@
 #include "arrays.hpp"
 #include "interruption.hpp"
 #include "ray_batches.hpp"
+#include "results.hpp"
 #include "sphray/render/camera.hpp"
 #include "sphray/render/path_tracer.hpp"
 #include "sphray/render/renderer.hpp"
@@ -201,7 +202,7 @@ py::tuple pinhole_rays(const py::handle& eye, const py::handle& target, const py
       }
     });
   }
-  return py::make_tuple(origins, directions);
+  return make_result(Result::rays, {origins, directions});
 }
 
 py::array render(const RenderRequest& request) {

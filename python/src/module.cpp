@@ -13,6 +13,7 @@
 
 #include "camera.hpp"
 #include "interruption.hpp"
+#include "results.hpp"
 #include "scene.hpp"
 #include "sphray/sphray.hpp"
 
@@ -30,6 +31,10 @@ constexpr const char* kModuleDoc = R"doc(Fast, exact ray/sphere intersection on 
     >>> t, ids = scene.intersect(origins, directions)   # (M, 3) each -> (M,), (M,)
     >>> hit = scene.occluded(origins, directions)       # (M,) bool
     >>> points, normals, front = scene.surface(origins, directions, t, ids)
+    >>> hits = scene.intersect(origins, directions)     # or by name: hits.t, hits.ids
+
+The results of more than one array are named tuples (Hits, Surface, Crossings, Nearest,
+Overlaps, Rays): they unpack as tuples and name their fields.
 
 Results are exact to the kernel's contract (the C++ library's docs/kernel.md): a ray hits a
 sphere at t when tmin < t < tmax, the closest hit wins, equal t goes to the lower id, a miss
@@ -64,27 +69,30 @@ reads; while a scene reads your arrays in place, write to them only between quer
 call refit() afterwards (the BVH keeps its own copy of the spheres and sees changes only
 then).)doc";
 
-constexpr const char* kInitDoc = R"doc(__init__(centers, radii, accel="auto", masks=None)
+constexpr const char* kInitDoc = R"doc(init(self, centers, radii, accel="auto", masks=None)
+--
 
 Spheres from centers (N, 3) and radii (N,), and optionally one uint32 mask each: see
 help(sphray.Scene). Raises RuntimeError on a scene already initialised.)doc";
 
 constexpr const char* kIntersectDoc =
-    R"doc(intersect(origins, directions, tmin=0.0, tmax=inf, mask=0xffffffff) -> (t, ids)
+    R"doc(intersect(self, origins, directions, tmin=0.0, tmax=math.inf, mask=0xffffffff)
+--
 
-Closest hit of each ray.
+Closest hit of each ray: Hits(t, ids), a named tuple (t, ids = scene.intersect(...) unpacks it).
 
-origins, directions: (M, 3) arrays (or (..., 3): the results then have shape (...)).
-Directions need not be unit length: t is measured in units of the direction.
-tmin, tmax: scalars or arrays of shape (M,); a hit needs tmin < t < tmax.
+origins, directions: (M, 3) arrays (or (..., 3): the results then have shape (...)). Directions
+need not be unit length: t is measured in units of the direction. tmin, tmax: scalars or arrays
+of shape (M,); a hit needs tmin < t < tmax.
 
-Returns t, float32 (M,), and ids, uint32 (M,): on a miss ids[i] == NO_HIT and
+hits.t, float32 (M,), and hits.ids, uint32 (M,): on a miss ids[i] == NO_HIT and
 t[i] == tmax. Equal t on two spheres: the lower id. A ray starting inside a sphere hits its
 far side. A ray with a NaN or infinite component, a zero direction, a NaN bound or
 tmin >= tmax misses.)doc";
 
 constexpr const char* kOccludedDoc =
-    R"doc(occluded(origins, directions, tmin=0.0, tmax=inf, mask=0xffffffff) -> hit
+    R"doc(occluded(self, origins, directions, tmin=0.0, tmax=math.inf, mask=0xffffffff)
+--
 
 Whether each ray hits any sphere in (tmin, tmax).
 
@@ -92,9 +100,10 @@ The shadow-ray query: the same rays and rules as intersect(), a bool array of sh
 stopping at the first hit found.)doc";
 
 constexpr const char* kSurfaceDoc =
-    R"doc(surface(origins, directions, t, ids) -> (points, normals, front_face)
+    R"doc(surface(self, origins, directions, t, ids)
+--
 
-Where each ray meets its hit.
+Where each ray meets its hit: Surface(points, normals, front_face), a named tuple.
 
 t and ids as intersect() returned them. points: float32 (M, 3), on the sphere (re-projected
 from the ray's t); normals: float32 (M, 3), the outward unit normals; front_face: bool (M,),
@@ -102,7 +111,8 @@ True where the ray arrived from outside. For a miss (ids == NO_HIT, or an id of 
 the point origin + t * direction, a zero normal and front_face False.)doc";
 
 constexpr const char* kSpawnDoc =
-    R"doc(spawn(origins, directions, t, ids, new_directions) -> origins
+    R"doc(spawn(self, origins, directions, t, ids, new_directions)
+--
 
 Where rays leaving each hit towards new_directions start: the hit point moved along the normal,
 to new_directions' side, just past the point's computed rounding error (sphray.spawn() in C++,
@@ -112,60 +122,71 @@ points + 1e-3 * normals does, or skips thin gaps. origins, directions, t and ids
 surface(); new_directions: (M, 3). Returns float32 (M, 3). For a miss: surface()'s point.)doc";
 
 constexpr const char* kIntersectAllDoc =
-    R"doc(intersect_all(origins, directions, max_hits=16, tmin=0.0, tmax=inf, mask=0xffffffff)
+    R"doc(intersect_all(self, origins, directions, max_hits=16, tmin=0.0, tmax=math.inf,
+              mask=0xffffffff)
+--
 
 Every crossing of each ray with the spheres' surfaces, not only the first.
 
-Returns (t, ids, exits, counts): t float32, ids uint32 and exits bool of shape (..., max_hits),
-the first max_hits crossings of each ray in (tmin, tmax), sorted by t, then id, then entry
-before exit (a sphere's near root enters it, its far root leaves it); counts uint64 of shape
-(...), how many crossings each ray has in all (more than max_hits when they did not fit).
-Unused slots hold t = nan, id = NO_HIT, exit = False. The first crossing is intersect()'s
-closest hit. Contract: docs/queries.md.)doc";
+Returns Crossings(t, ids, exits, counts), a named tuple: t float32, ids uint32 and exits bool of
+shape (..., max_hits), the first max_hits crossings of each ray in (tmin, tmax), sorted by t,
+then id, then entry before exit (a sphere's near root enters it, its far root leaves it); counts
+uint64 of shape (...), how many crossings each ray has in all (more than max_hits when they did
+not fit). Unused slots hold t = nan, id = NO_HIT, exit = False. The first crossing is
+intersect()'s closest hit. Contract: docs/queries.md.)doc";
 
 constexpr const char* kCountHitsDoc =
-    R"doc(count_hits(origins, directions, tmin=0.0, tmax=inf, mask=0xffffffff)
+    R"doc(count_hits(self, origins, directions, tmin=0.0, tmax=math.inf, mask=0xffffffff)
+--
 
 The number of crossings of each ray with the spheres' surfaces in (tmin, tmax), uint64 of
 shape (...): both roots of every sphere the ray's line meets count. From a point to infinity,
 an odd count means the point is inside an odd number of spheres.)doc";
 
-constexpr const char* kNearestDoc = R"doc(nearest(points, max_distance=inf)
+constexpr const char* kNearestDoc = R"doc(nearest(self, points, max_distance=math.inf)
+--
 
 The sphere nearest each point, by signed distance to its surface |p - c| - r (negative
 inside; inside overlapping spheres, the one the point is deepest in), among those within
 max_distance.
 
-Returns (ids, distances, surface_points): uint32 (...), float32 (...) and float32 (..., 3),
-the closest point of that sphere's surface. A point with none: id NO_HIT, distance
-max_distance, surface point the point itself.)doc";
+Returns Nearest(ids, distances, surface_points), a named tuple: uint32 (...), float32 (...) and
+float32 (..., 3), the closest point of that sphere's surface. A point with none: id NO_HIT,
+distance max_distance, surface point the point itself.)doc";
 
-constexpr const char* kInsideDoc = R"doc(inside(points)
+constexpr const char* kInsideDoc = R"doc(inside(self, points)
+--
 
 Whether each point (..., 3) lies inside any sphere (the open balls: a point on a surface is
 outside), bool of shape (...).)doc";
 
-constexpr const char* kOverlappingDoc = R"doc(overlapping(centre, radius)
+constexpr const char* kOverlappingDoc = R"doc(overlapping(self, centre, radius)
+--
 
 The ids (uint32, ascending) of the spheres that overlap the ball of this centre (3,) and
 radius: |c - centre| < r + radius (touching is not overlapping). Collision candidates. A
 negative or NaN radius, or a NaN centre, gives an empty array.)doc";
 
-constexpr const char* kOverlapsDoc = R"doc(overlaps(centers, radii) -> (offsets, ids)
+constexpr const char* kOverlapsDoc = R"doc(overlaps(self, centers, radii)
+--
 
 overlapping() for many balls at once, on all cores with the GIL released: a simulation's broad
 phase. centers (..., 3), taken row by row in C order; radii one number or one per row. Returns
-the sparse row layout of scipy's CSR matrices: offsets (M + 1,) int64 and ids uint32, the ids
-of ball i (ascending) being ids[offsets[i]:offsets[i + 1]]. Exact for unequal radii: sphere j
-overlaps ball i when |c_j - centre_i| < r_j + radius_i, as overlapping() decides it.)doc";
+Overlaps(offsets, ids), a named tuple in the sparse row layout of scipy's CSR matrices: offsets
+(M + 1,) int64 and ids uint32, the ids of ball i (ascending) being ids[offsets[i]:offsets[i +
+1]]. Exact for unequal radii: sphere j overlaps ball i when |c_j - centre_i| < r_j + radius_i,
+as overlapping() decides it.)doc";
 
-constexpr const char* kOverlappingPairsDoc = R"doc(overlapping_pairs() -> (P, 2) uint32
+constexpr const char* kOverlappingPairsDoc = R"doc(overlapping_pairs(self)
+--
 
-Every pair of the scene's own valid spheres that overlap: rows (i, j), i < j, where sphere j
-overlaps the ball of sphere i (overlapping(centers[i], radii[i])), sorted by i then j, on all
-cores with the GIL released. scipy's cKDTree.query_pairs for spheres of any radii.)doc";
+Every pair of the scene's own valid spheres that overlap, (P, 2) uint32: rows (i, j), i < j,
+where sphere j overlaps the ball of sphere i (overlapping(centers[i], radii[i])), sorted by i
+then j, on all cores with the GIL released. scipy's cKDTree.query_pairs for spheres of any
+radii.)doc";
 
-constexpr const char* kRefitDoc = R"doc(refit(centers, radii, masks=None)
+constexpr const char* kRefitDoc = R"doc(refit(self, centers, radii, masks=None)
+--
 
 Moves the scene's spheres.
 
@@ -175,22 +196,26 @@ boxes are updated: much cheaper than a new Scene, but tracing slows down as sphe
 far from where the tree was built. Waits for queries in flight in other threads.)doc";
 
 constexpr const char* kPinholeDoc =
-    R"doc(pinhole_rays(eye, target, up, vfov_deg, width, height) -> (origins, directions)
+    R"doc(pinhole_rays(eye, target, up, vfov_deg, width, height)
+--
 
-Camera rays of a pinhole camera, one through each pixel's centre.
+Camera rays of a pinhole camera, one through each pixel's centre: Rays(origins, directions),
+a named tuple.
 
 eye, target, up: 3-vectors; vfov_deg: the vertical field of view in degrees, in (0, 180).
-Returns two float32 arrays of shape (height, width, 3), row 0 at the top of the image;
+Both are float32 arrays of shape (height, width, 3), row 0 at the top of the image;
 directions are unit vectors, so intersect() returns distances. The camera is the renderer's
 (Ray Tracing in One Weekend's). Raises ValueError if eye == target, up is parallel to the
 view direction, a value is not finite, or the size is not positive.)doc";
 
 constexpr const char* kRenderDoc =
     R"doc(render(scene="rtiow-final", mode="normals", width=None, height=None, spp=4, seed=0,
-       threads=0, accel="auto", max_depth=50, time_limit=0, camera=None, colors=None,
-       materials=None, linear=False) -> uint8 array (height, width, 3)
+       threads=0, accel="auto", max_depth=50, time_limit=0.0, camera=None, colors=None,
+       materials=None, linear=False)
+--
 
-Renders a scene to an image: one of the renderer's, or spheres of your own.
+Renders a scene to an image: one of the renderer's, or spheres of your own, as a uint8 array
+(height, width, 3).
 
 scene: a preset ("single", "three", "rtiow-final", "random:N"), a JSON scene file, a
 sphray.Scene, or (centers, radii) arrays. Your own spheres are grey Lambertian, or coloured by
@@ -280,12 +305,16 @@ std::vector<std::string> supported_isa_names() {
 }  // namespace
 
 PYBIND11_MODULE(sphray, m) {
-  // The docstrings open with the Python signature; pybind11's own would name C++ handle types.
+  // The docstrings open with the Python signature in CPython's text-signature form
+  // ("name(args)\n--\n\n"), which inspect.signature() and help() read and which the stubtest
+  // check compares with sphray.pyi; pybind11's own would name C++ handle types. Defaults are
+  // written as inspect can evaluate them: Python literals, and infinity as math.inf.
   py::options options;
   options.disable_function_signatures();
   m.doc() = kModuleDoc;
   m.attr("__version__") = sphray::kVersion;
   m.attr("NO_HIT") = py::int_(sphray::kNoHit);
+  sphray::python::add_result_types(m);
   // A call stopped by a signal (interruption.hpp) raises what the handler raised.
   py::register_exception_translator([](std::exception_ptr thrown) {
     try {
@@ -326,7 +355,8 @@ PYBIND11_MODULE(sphray, m) {
       .def("overlapping_pairs", on_scene(&Scene::overlapping_pairs), kOverlappingPairsDoc)
       .def("refit", on_scene(&Scene::refit), py::arg("centers"), py::arg("radii"),
            py::arg("masks") = py::none(), kRefitDoc)
-      .def("__len__", on_scene(&Scene::size), "len(scene): the number of spheres.")
+      .def("__len__", on_scene(&Scene::size),
+           "__len__(self)\n--\n\nlen(scene): the number of spheres.")
       .def_property_readonly("uses_bvh", on_scene(&Scene::uses_bvh),
                              "Whether a BVH answers the queries (else brute force).")
       .def_property_readonly("centers", on_scene(&Scene::centers),
@@ -407,7 +437,8 @@ PYBIND11_MODULE(sphray, m) {
 
   m.def(
       "active_isa", [] { return std::string(sphray::isa_name(sphray::active_isa())); },
-      "The instruction set the queries use: 'scalar', 'sse4.2', 'avx2', 'avx512' or 'neon'.");
+      "active_isa()\n--\n\nThe instruction set the queries use: 'scalar', 'sse4.2', 'avx2', "
+      "'avx512' or 'neon'.");
   m.def(
       "bvh_isa",
       [](std::optional<std::size_t> sphere_count) {
@@ -415,10 +446,12 @@ PYBIND11_MODULE(sphray, m) {
             sphray::isa_name(sphere_count ? sphray::bvh_isa(*sphere_count) : sphray::bvh_isa()));
       },
       py::arg("sphere_count") = py::none(),
-      "The instruction set the tree of a Scene of sphere_count spheres (None: many) is laid out "
+      "bvh_isa(sphere_count=None)\n--\n\nThe instruction set the tree of a Scene of sphere_count "
+      "spheres (None: many) is laid out "
       "for and walked with: the fastest for trees of that size on this CPU, by a rule on its "
       "vendor and family, or SPHRAY_ISA's.");
   m.def("supported_isas", &supported_isa_names,
-        "The instruction sets this build has and this machine runs, best first (the values "
+        "supported_isas()\n--\n\nThe instruction sets this build has and this machine runs, best "
+        "first (the values "
         "SPHRAY_ISA may take here).");
 }

@@ -17,6 +17,7 @@
 #include "arrays.hpp"
 #include "interruption.hpp"
 #include "ray_batches.hpp"
+#include "results.hpp"
 #include "scene.hpp"
 #include "storage/morton_order.hpp"
 
@@ -65,7 +66,7 @@ py::tuple Scene::intersect_all(const py::handle& origins, const py::handle& dire
       }
     });
   }
-  return py::make_tuple(t, ids, exits, counts);
+  return make_result(Result::crossings, {t, ids, exits, counts});
 }
 
 py::array Scene::count_hits(const py::handle& origins, const py::handle& directions,
@@ -111,7 +112,7 @@ py::tuple Scene::nearest(const py::handle& points, float max_distance) const {
       }
     });
   }
-  return py::make_tuple(ids, distances, surface_points);
+  return make_result(Result::nearest, {ids, distances, surface_points});
 }
 
 py::array Scene::inside(const py::handle& points) const {
@@ -240,7 +241,7 @@ py::tuple Scene::overlaps(const py::handle& centers, const py::handle& radii) co
     total += static_cast<std::int64_t>(list.size());
   auto ids = new_array<std::uint32_t>({static_cast<py::ssize_t>(total)});
   scatter_lists(lists, order, offsets.mutable_data(), ids.mutable_data());
-  return py::make_tuple(offsets, ids);
+  return make_result(Result::overlaps, {offsets, ids});
 }
 
 py::array Scene::overlapping_pairs() const {

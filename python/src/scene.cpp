@@ -6,6 +6,7 @@
 #include "arrays.hpp"
 #include "interruption.hpp"
 #include "ray_batches.hpp"
+#include "results.hpp"
 #include "sphray/render/renderer.hpp"
 
 namespace sphray::python {
@@ -52,7 +53,7 @@ py::tuple Scene::intersect(const py::handle& origins, const py::handle& directio
       }
     });
   }
-  return py::make_tuple(t, ids);
+  return make_result(Result::hits, {t, ids});
 }
 
 py::array Scene::occluded(const py::handle& origins, const py::handle& directions,
@@ -110,7 +111,7 @@ py::tuple Scene::surface(const py::handle& origins, const py::handle& directions
     }
     f_out[i] = s.front_face;
   });
-  return py::make_tuple(points, normals, front);
+  return make_result(Result::surface, {points, normals, front});
 }
 
 py::array Scene::spawn(const py::handle& origins, const py::handle& directions, const py::handle& t,
