@@ -34,6 +34,14 @@ class Crossings(NamedTuple):
     exits: npt.NDArray[np.bool_]
     counts: npt.NDArray[np.uint64]
 
+class NearestCrossings(NamedTuple):
+    """Scene.intersect_nearest(), the nearest k crossings of each ray alone."""
+
+    t: npt.NDArray[np.float32]
+    ids: npt.NDArray[np.uint32]
+    exits: npt.NDArray[np.bool_]
+    counts: npt.NDArray[np.uint64]
+
 class Nearest(NamedTuple):
     """Scene.nearest(), the sphere nearest each point."""
 
@@ -108,6 +116,16 @@ class Scene:
         mask: Union[int, npt.ArrayLike] = 0xFFFFFFFF,
     ) -> Crossings:
         """Crossings(t, ids, exits, counts): every crossing of each ray; max_hits of them sorted."""
+    def intersect_nearest(
+        self,
+        origins: _ArrayLike,
+        directions: _ArrayLike,
+        k: int = 16,
+        tmin: _Bound = 0.0,
+        tmax: _Bound = float("inf"),
+        mask: Union[int, npt.ArrayLike] = 0xFFFFFFFF,
+    ) -> NearestCrossings:
+        """NearestCrossings(t, ids, exits, counts): intersect_all's first k; counts written."""
     def count_hits(
         self,
         origins: _ArrayLike,

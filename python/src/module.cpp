@@ -135,6 +135,19 @@ uint64 of shape (...), how many crossings each ray has in all (more than max_hit
 not fit). Unused slots hold t = nan, id = NO_HIT, exit = False. The first crossing is
 intersect()'s closest hit. Contract: docs/queries.md.)doc";
 
+constexpr const char* kIntersectNearestDoc =
+    R"doc(intersect_nearest(self, origins, directions, k=16, tmin=0.0, tmax=math.inf,
+                  mask=0xffffffff)
+--
+
+The nearest k crossings of each ray alone: intersect_all()'s first k, bit for bit, without
+the total. Through the BVH the walk stops at the k-th crossing found so far, as the closest hit
+stops at the first (k-buffers, the first layers of transparency).
+
+Returns NearestCrossings(t, ids, exits, counts), a named tuple: t, ids and exits of shape
+(..., k) as intersect_all() fills them; counts uint64 of shape (...), how many slots were
+written (at most k). Contract: docs/queries.md.)doc";
+
 constexpr const char* kCountHitsDoc =
     R"doc(count_hits(self, origins, directions, tmin=0.0, tmax=math.inf, mask=0xffffffff)
 --
@@ -342,6 +355,9 @@ PYBIND11_MODULE(sphray, m) {
       .def("intersect_all", on_scene(&Scene::intersect_all), py::arg("origins"),
            py::arg("directions"), py::arg("max_hits") = 16, py::arg("tmin") = 0.0,
            py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits, kIntersectAllDoc)
+      .def("intersect_nearest", on_scene(&Scene::intersect_nearest), py::arg("origins"),
+           py::arg("directions"), py::arg("k") = 16, py::arg("tmin") = 0.0,
+           py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits, kIntersectNearestDoc)
       .def("count_hits", on_scene(&Scene::count_hits), py::arg("origins"), py::arg("directions"),
            py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits,
            kCountHitsDoc)

@@ -29,6 +29,18 @@ constexpr std::size_t kMaxHitsPerRay = 1 << 20;
 py::tuple Scene::intersect_all(const py::handle& origins, const py::handle& directions,
                                std::size_t max_hits, const py::handle& tmin, const py::handle& tmax,
                                const py::handle& mask) const {
+  return crossings(origins, directions, max_hits, tmin, tmax, mask, Crossings::all);
+}
+
+py::tuple Scene::intersect_nearest(const py::handle& origins, const py::handle& directions,
+                                   std::size_t k, const py::handle& tmin, const py::handle& tmax,
+                                   const py::handle& mask) const {
+  return crossings(origins, directions, k, tmin, tmax, mask, Crossings::nearest);
+}
+
+py::tuple Scene::crossings(const py::handle& origins, const py::handle& directions,
+                           std::size_t max_hits, const py::handle& tmin, const py::handle& tmax,
+                           const py::handle& mask, Crossings which) const {
   if (max_hits > kMaxHitsPerRay) {
     throw py::value_error("max_hits: expected 0 to " + std::to_string(kMaxHitsPerRay) + ", got " +
                           std::to_string(max_hits));
@@ -54,7 +66,9 @@ py::tuple Scene::intersect_all(const py::handle& origins, const py::handle& dire
       const std::span<bool> exit_span(flags.get(), max_hits);
       for (std::size_t i = begin; i < end; ++i) {
         const std::size_t n = answer([&](const auto& spheres) {
-          return sphray::intersect_all(spheres, rays[i], hits, exit_span);
+          return which == Crossings::all
+                     ? sphray::intersect_all(spheres, rays[i], hits, exit_span)
+                     : sphray::intersect_nearest(spheres, rays[i], hits, exit_span);
         });
         count_out[i] = n;
         for (std::size_t k = 0; k < max_hits; ++k) {
@@ -66,7 +80,8 @@ py::tuple Scene::intersect_all(const py::handle& origins, const py::handle& dire
       }
     });
   }
-  return make_result(Result::crossings, {t, ids, exits, counts});
+  return make_result(which == Crossings::all ? Result::crossings : Result::nearest_crossings,
+                     {t, ids, exits, counts});
 }
 
 py::array Scene::count_hits(const py::handle& origins, const py::handle& directions,

@@ -17,7 +17,16 @@ namespace sphray::python {
 namespace py = pybind11;
 
 /// The result types, in the order of kResultTypes (results.cpp).
-enum class Result : std::size_t { hits, surface, crossings, nearest, overlaps, rays, count };
+enum class Result : std::size_t {
+  hits,
+  surface,
+  crossings,
+  nearest_crossings,
+  nearest,
+  overlaps,
+  rays,
+  count
+};
 
 /// Makes the namedtuple classes and adds them to the module m, by name (m.Hits, ...).
 void add_result_types(py::module_& m);

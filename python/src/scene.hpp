@@ -49,6 +49,11 @@ class Scene {
   py::tuple intersect_all(const py::handle& origins, const py::handle& directions,
                           std::size_t max_hits, const py::handle& tmin, const py::handle& tmax,
                           const py::handle& mask) const;
+  /// The nearest k crossings of each ray alone (sphray::intersect_nearest): intersect_all's
+  /// first k, with counts how many were written rather than the total.
+  py::tuple intersect_nearest(const py::handle& origins, const py::handle& directions,
+                              std::size_t k, const py::handle& tmin, const py::handle& tmax,
+                              const py::handle& mask) const;
   /// The number of crossings of each ray.
   py::array count_hits(const py::handle& origins, const py::handle& directions,
                        const py::handle& tmin, const py::handle& tmax,
@@ -88,6 +93,11 @@ class Scene {
   SphereArrays spheres_;
   std::optional<SphereBVH> bvh_;
 
+  // intersect_all and intersect_nearest: the same arrays, filled by one query or the other.
+  enum class Crossings { all, nearest };
+  py::tuple crossings(const py::handle& origins, const py::handle& directions, std::size_t max_hits,
+                      const py::handle& tmin, const py::handle& tmax, const py::handle& mask,
+                      Crossings which) const;
   // hits[i] for rays[i], through the BVH or brute force. Needs the reader lock.
   void trace(std::span<const Ray> rays, std::span<Hit> hits) const;
   // keep(i, surface) for the hit surface of each row i (rows as surface() takes them), on all

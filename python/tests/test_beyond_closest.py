@@ -1,5 +1,6 @@
-"""intersect_all, count_hits, nearest, inside and overlapping (docs/queries.md) against a float64
-reference written here, brute force and BVH; and their bad input."""
+"""intersect_all, intersect_nearest, count_hits, nearest, inside and overlapping
+(docs/queries.md) against a float64 reference written here, brute force and BVH; and their bad
+input."""
 
 import numpy as np
 import pytest
@@ -57,6 +58,15 @@ def test_every_crossing_and_count(rng, accel):
     found = counts > 0
     np.testing.assert_array_equal(ids[found, 0], ids1[found])
     np.testing.assert_array_equal(t[found, 0], t1[found])
+    # The nearest k alone: intersect_all's first k slots bit for bit, counted as written.
+    assert counts.max() > 3
+    for k in (1, 3, 6):
+        near = scene.intersect_nearest(origins, directions, k=k)
+        assert near.t.shape == (400, k) and near.counts.dtype == np.uint64
+        np.testing.assert_array_equal(near.counts, np.minimum(counts, k))
+        np.testing.assert_array_equal(near.t, t[:, :k])
+        np.testing.assert_array_equal(near.ids, ids[:, :k])
+        np.testing.assert_array_equal(near.exits, exits[:, :k])
 
 
 def distances_ref(centers, radii, points):

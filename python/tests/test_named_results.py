@@ -29,6 +29,8 @@ def results():
         (sphray.Hits, ("t", "ids"), scene.intersect(o, d)),
         (sphray.Surface, ("points", "normals", "front_face"), scene.surface(o, d, t, ids)),
         (sphray.Crossings, ("t", "ids", "exits", "counts"), scene.intersect_all(o, d, max_hits=4)),
+        (sphray.NearestCrossings, ("t", "ids", "exits", "counts"),
+         scene.intersect_nearest(o, d, k=1)),
         (sphray.Nearest, ("ids", "distances", "surface_points"),
          scene.nearest(np.float32([[0, 0, 0], [2, 0, -2]]))),
         (sphray.Overlaps, ("offsets", "ids"), scene.overlaps(np.float32([[0, 0, -3]]), 0.5)),
@@ -37,7 +39,7 @@ def results():
     ]
 
 
-@pytest.mark.parametrize("index", range(6), ids=lambda i: results()[i][0].__name__)
+@pytest.mark.parametrize("index", range(7), ids=lambda i: results()[i][0].__name__)
 def test_each_result_names_its_fields_and_unpacks_as_before(index):
     cls, fields, result = results()[index]
     assert type(result) is cls and cls.__module__ == "sphray"
