@@ -46,10 +46,12 @@ RTCDevice device() {
 
 using SceneHandle = std::shared_ptr<RTCSceneTy>;
 
-// A committed scene holding the spheres, built on `threads` threads.
-SceneHandle build_scene(const SphereSoA& spheres, int threads) {
+// A committed scene holding the spheres, built on `threads` threads, with an intersection
+// filter on the spheres if one is given.
+SceneHandle build_scene(const SphereSoA& spheres, int threads,
+                        RTCFilterFunctionN intersect_filter = nullptr) {
   RTCScene scene = rtcNewScene(device());
-  embree::attach_spheres(device(), scene, spheres.view());
+  embree::attach_spheres(device(), scene, spheres.view(), intersect_filter);
   run_on_threads(threads, [&] { rtcCommitScene(scene); });
   return SceneHandle(scene, rtcReleaseScene);
 }
@@ -124,7 +126,65 @@ Builder embree_builder(int threads) {
   return {"embree", threads, prepare};
 }
 
+// Every crossing the way Embree's multi-hit tutorials find them: the filter sees each hit the
+// traversal finds, in traversal order, records it and rejects it (valid = 0), so the ray's tfar
+// never shrinks and the walk goes on to the end of the segment. The per-ray state travels in
+// the intersect context, extended as the tutorials extend it.
+struct CrossingContext {
+  RTCIntersectContext context;  // first: the filter gets a pointer to it and casts back
+  Hit* nearest = nullptr;       // the nearest crossings so far, sorted by t then id
+  std::size_t room = 0;
+  std::size_t total = 0;  // every crossing reported
+};
+
+CrossingContext& crossing_context(const RTCFilterFunctionNArguments* args) {
+  return *reinterpret_cast<CrossingContext*>(args->context);
+}
+
+// Keeps the `room` nearest by insertion (a crossing behind a full list costs one comparison),
+// as sphray's intersect_all keeps its span.
+void keep_nearest(const RTCFilterFunctionNArguments* args) {
+  CrossingContext& c = crossing_context(args);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    args->valid[i] = 0;
+    // Inside the filter, the ray's tfar is the distance of the hit being offered.
+    const Hit hit{RTCRayN_tfar(args->ray, args->N, i), RTCHitN_primID(args->hit, args->N, i)};
+    const std::size_t kept = std::min(c.total++, c.room);
+    std::size_t at = kept;
+    while (at > 0 && (hit.t < c.nearest[at - 1].t ||
+                      (hit.t == c.nearest[at - 1].t && hit.id < c.nearest[at - 1].id)))
+      --at;
+    if (at == c.room) continue;
+    const std::size_t end = std::min(kept, c.room - 1);
+    std::copy_backward(c.nearest + at, c.nearest + end, c.nearest + end + 1);
+    c.nearest[at] = hit;
+  }
+}
+
+void count_only(const RTCFilterFunctionNArguments* args) {
+  CrossingContext& c = crossing_context(args);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    args->valid[i] = 0;
+    ++c.total;
+  }
+}
+
 }  // namespace
+
+EmbreeCrossings::EmbreeCrossings(const SphereSoA& spheres, bool counting)
+    : scene_(build_scene(spheres, 1, counting ? count_only : keep_nearest)) {}
+
+std::size_t EmbreeCrossings::intersect_all(const Ray& ray, std::span<Hit> out) const {
+  CrossingContext c;
+  rtcInitIntersectContext(&c.context);
+  c.nearest = out.data();
+  c.room = out.size();
+  RTCRayHit rh = embree::to_embree(ray);
+  rtcIntersect1(static_cast<RTCScene>(scene_.get()), &c.context, &rh);
+  return c.total;
+}
 
 std::vector<Implementation> embree_implementations() {
   std::vector<Implementation> impls;

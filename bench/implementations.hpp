@@ -70,6 +70,25 @@ std::vector<Implementation> embree_implementations();
 /// rtcOccluded1, rtcOccluded8 and rtcOccluded16 (where the build has them), single thread.
 std::vector<Occluder> embree_occluders();
 std::vector<Builder> embree_builders();
+
+/// Embree 3's way to every crossing along a ray (its multi-hit filter tutorials): the spheres
+/// (RTC_GEOMETRY_TYPE_SPHERE_POINT) carry an intersection filter that records each hit
+/// rtcIntersect1 offers and rejects it, so the traversal goes on to the ray's tfar. Embree
+/// offers both roots of a sphere, near then far, each where it lies in [tnear, tfar] (closed,
+/// where sphray's interval is open): the crossings of sphray's intersect_all, in traversal
+/// order, which the filter sorts.
+class EmbreeCrossings {
+ public:
+  /// A scene of its own (single-threaded build): the filter belongs to the geometry. With
+  /// counting the filter counts and keeps nothing.
+  EmbreeCrossings(const SphereSoA& spheres, bool counting);
+  /// How many crossings in all; the nearest out.size() of them in out, sorted by t then id
+  /// (nothing written when counting).
+  std::size_t intersect_all(const Ray& ray, std::span<Hit> out) const;
+
+ private:
+  std::shared_ptr<void> scene_;  // an RTCScene
+};
 #endif
 
 /// The core clock next to the time stamp counter, and the divider's throughput (square root

@@ -2,6 +2,11 @@
 // same rays: every crossing, their count, and the point queries, through the tree and by brute
 // force where the scene is small. Each is checked against the scalar reference on a sample
 // before it is timed. Names: queries/<scene>/<query>/<tree|brute>/threads:1.
+//
+// The every-crossing queries also run beside Embree's way to the same answer (an intersection
+// filter that records each hit and rejects it), on camera and incoherent rays, each checked
+// against the scalar reference's crossings on a sample (bench/verify.hpp). Names:
+// every_hit/<scene>/<coherent|incoherent>/<row>/threads:1.
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -15,6 +20,7 @@
 
 #include "implementations.hpp"
 #include "threads.hpp"
+#include "verify.hpp"
 #include "workload.hpp"
 
 namespace sphray::bench {
@@ -130,6 +136,21 @@ const Scene& scene(std::string_view name) {
   return *kept;
 }
 
+// The timed loop of every row: the query over every item, its answers summed into a sink.
+template <class Item, class Query>
+void time_items(benchmark::State& state, std::span<const Item> items, std::size_t spheres,
+                Query query) {
+  std::size_t sink = 0;
+  for (auto _ : state) {
+    for (const Item& item : items)
+      sink += query(item);
+    benchmark::DoNotOptimize(sink);
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(items.size()));
+  state.counters["spheres"] = static_cast<double>(spheres);
+  state.counters["queries"] = static_cast<double>(items.size());
+}
+
 template <class Item, class Query>
 void run(benchmark::State& state, std::string_view scene_name, bool tree, Query query,
          std::size_t (*reference)(const Queries&, const Item&)) {
@@ -151,15 +172,8 @@ void run(benchmark::State& state, std::string_view scene_name, bool tree, Query 
       return;
     }
   }
-  std::size_t sink = 0;
-  for (auto _ : state) {
-    for (const Item& item : items)
-      sink += query(q, item);
-    benchmark::DoNotOptimize(sink);
-  }
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(items.size()));
-  state.counters["spheres"] = static_cast<double>(s.spheres.size());
-  state.counters["queries"] = static_cast<double>(items.size());
+  time_items(state, std::span<const Item>(items), s.spheres.size(),
+             [&](const Item& item) { return query(q, item); });
 }
 
 // The scalar reference's answers, in the form each query above returns.
@@ -240,6 +254,131 @@ void broad_phase(benchmark::State& state, std::string_view scene_name, int threa
       benchmark::Counter::kIsRate);
 }
 
+// --- Every crossing against Embree's filter ----------------------------------------------
+
+// A scene and ray kind's rays, tree and Embree scenes, and the scalar reference's crossings on
+// a sample, kept while its rows run.
+struct CrossingScene {
+  std::string name;
+  RayKind kind;
+  std::size_t spheres = 0;
+  std::vector<Ray> rays, sample;
+  std::vector<Crossings> expected;  // kAllHitsRoom kept
+  SphereBVH tree;
+#if SPHRAY_BENCH_EMBREE
+  std::unique_ptr<EmbreeCrossings> embree_nearest, embree_count;
+#endif
+};
+
+const CrossingScene& crossing_scene(std::string_view name, RayKind kind) {
+  static std::unique_ptr<CrossingScene> kept;
+  if (kept && kept->name == name && kept->kind == kind) return *kept;
+  kept.reset();
+  const Workload& w = workload(name, kind);
+  auto s = std::make_unique<CrossingScene>();
+  s->name = name;
+  s->kind = kind;
+  s->spheres = w.spheres.size();
+  s->rays = w.rays;
+  s->sample = w.sample;
+  for (const Ray& r : s->sample) {
+    Crossings c;
+    c.nearest.resize(kAllHitsRoom);
+    c.total = scalar::intersect_all(w.view(), r, c.nearest, {});
+    c.nearest.resize(std::min(c.total, kAllHitsRoom));
+    s->expected.push_back(std::move(c));
+  }
+  s->tree = SphereBVH(w.view());
+#if SPHRAY_BENCH_EMBREE
+  s->embree_nearest = std::make_unique<EmbreeCrossings>(w.spheres, false);
+  s->embree_count = std::make_unique<EmbreeCrossings>(w.spheres, true);
+#endif
+  kept = std::move(s);
+  return *kept;
+}
+
+// One row: the total, and the nearest crossings in out unless it only counts (out is
+// kAllHitsRoom long).
+struct CrossingRow {
+  const char* name;
+  bool counts_only;
+  std::size_t (*query)(const CrossingScene&, const Ray&, std::span<Hit> out);
+};
+
+std::size_t tree_count(const CrossingScene& s, const Ray& r, std::span<Hit>) {
+  return count_hits(s.tree, r);
+}
+std::size_t tree_all(const CrossingScene& s, const Ray& r, std::span<Hit> out) {
+  return intersect_all(s.tree, r, out);
+}
+// intersect_nearest returns how many it wrote, not the total: the row's total is that count.
+std::size_t tree_nearest(const CrossingScene& s, const Ray& r, std::span<Hit> out) {
+  return intersect_nearest(s.tree, r, out);
+}
+#if SPHRAY_BENCH_EMBREE
+std::size_t embree_count(const CrossingScene& s, const Ray& r, std::span<Hit>) {
+  return s.embree_count->intersect_all(r, {});
+}
+std::size_t embree_all(const CrossingScene& s, const Ray& r, std::span<Hit> out) {
+  return s.embree_nearest->intersect_all(r, out);
+}
+#endif
+
+void run_crossings(benchmark::State& state, std::string_view scene_name, RayKind kind,
+                   const CrossingRow& row) {
+  const CrossingScene& s = crossing_scene(scene_name, kind);
+  const bool writes_total = row.query != tree_nearest;
+  std::vector<Crossings> got(s.sample.size()), expected = s.expected;
+  for (std::size_t i = 0; i < s.sample.size(); ++i) {
+    std::array<Hit, kAllHitsRoom> out;
+    got[i].total = row.query(s, s.sample[i], out);
+    if (!row.counts_only)
+      got[i].nearest.assign(out.begin(), out.begin() + std::min(got[i].total, kAllHitsRoom));
+    if (row.counts_only) expected[i].nearest.clear();
+    if (!writes_total) expected[i].total = expected[i].nearest.size();
+  }
+  const Agreement a = compare_crossings(expected, got);
+  if (!a.ok()) {
+    state.SkipWithError(("disagrees with the scalar reference: " + a.first_mismatch).c_str());
+    return;
+  }
+  state.counters["id_ties"] = static_cast<double>(a.id_ties);
+  state.counters["undecided"] = static_cast<double>(a.undecided);
+  time_items(state, std::span<const Ray>(s.rays), s.spheres, [&](const Ray& r) {
+    std::array<Hit, kAllHitsRoom> out;
+    const std::size_t n = row.query(s, r, out);
+    return row.counts_only || n == 0 ? n : n * 31 + out[0].id;
+  });
+}
+
+void register_crossing_benchmarks() {
+  static const CrossingRow rows[] = {
+    {"count_hits", true, tree_count},
+#if SPHRAY_BENCH_EMBREE
+    {"embree_filter_count", true, embree_count},
+#endif
+    {"intersect_all16", false, tree_all},
+#if SPHRAY_BENCH_EMBREE
+    {"embree_filter_all16", false, embree_all},
+#endif
+    {"intersect_nearest16", false, tree_nearest},
+  };
+  for (std::string_view scene_name :
+       {std::string_view("rtiow-final"), std::string_view("random:4096"),
+        std::string_view("random:65536")}) {
+    for (const RayKind kind : {RayKind::coherent, RayKind::incoherent}) {
+      for (const CrossingRow& row : rows) {
+        const std::string name = "every_hit/" + std::string(scene_name) + "/" +
+                                 std::string(ray_kind_name(kind)) + "/" + row.name + "/threads:1";
+        benchmark::RegisterBenchmark(
+            name.c_str(), [=](benchmark::State& s) { run_crossings(s, scene_name, kind, row); })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
+      }
+    }
+  }
+}
+
 }  // namespace
 
 void register_query_benchmarks() {
@@ -297,6 +436,7 @@ void register_query_benchmarks() {
         ->UseRealTime()
         ->Iterations(3);
   }
+  register_crossing_benchmarks();
 }
 
 }  // namespace sphray::bench

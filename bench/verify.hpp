@@ -4,6 +4,7 @@
 
 #include <span>
 #include <string>
+#include <vector>
 
 #include "sphray/sphray.hpp"
 
@@ -16,6 +17,7 @@ inline constexpr float kRelativeTolerance = 1e-3f;
 struct Agreement {
   std::size_t compared = 0;
   std::size_t id_ties = 0;  // same t within tolerance, different sphere: a tie decided by rounding
+  std::size_t undecided = 0;   // rays float cannot decide (compare_crossings), not compared
   std::string first_mismatch;  // empty when every hit agrees
 
   bool ok() const { return first_mismatch.empty(); }
@@ -25,5 +27,20 @@ struct Agreement {
 /// the tolerance (or two spheres at the same t within it, counted as a tie).
 Agreement compare_hits(std::span<const Ray> rays, std::span<const Hit> expected,
                        std::span<const Hit> got);
+
+/// One ray's crossings: how many in all, and the nearest ones (up to the room given) sorted by
+/// t then id, or none kept when only the count is asked for.
+struct Crossings {
+  std::size_t total = 0;
+  std::vector<Hit> nearest;
+};
+
+/// Compares got with expected ray by ray where float decides them: the same total, and at
+/// each place of the kept lists a t within the tolerance and the same sphere, or another
+/// sphere at that t within the tolerance (a tie, counted). A ray on which either side has a
+/// sphere's two roots within the tolerance of each other (it grazes the sphere: rounding
+/// decides whether it crosses at all) is left out when the totals differ, and counted in
+/// `undecided`.
+Agreement compare_crossings(std::span<const Crossings> expected, std::span<const Crossings> got);
 
 }  // namespace sphray::bench

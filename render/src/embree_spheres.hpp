@@ -14,8 +14,10 @@
 
 namespace sphray::embree {
 
-/// The spheres as one committed geometry of the scene (which the caller commits).
-inline void attach_spheres(RTCDevice device, RTCScene scene, const SphereView& spheres) {
+/// The spheres as one committed geometry of the scene (which the caller commits), with an
+/// intersection filter if one is given (Embree calls it on every hit it finds).
+inline void attach_spheres(RTCDevice device, RTCScene scene, const SphereView& spheres,
+                           RTCFilterFunctionN intersect_filter = nullptr) {
   RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
   auto* xyzr = static_cast<float*>(rtcSetNewGeometryBuffer(
       geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), spheres.count));
@@ -25,6 +27,7 @@ inline void attach_spheres(RTCDevice device, RTCScene scene, const SphereView& s
     xyzr[4 * i + 2] = spheres.cz[i];
     xyzr[4 * i + 3] = spheres.radius[i];
   }
+  if (intersect_filter) rtcSetGeometryIntersectFilterFunction(geometry, intersect_filter);
   rtcCommitGeometry(geometry);
   rtcAttachGeometry(scene, geometry);
   rtcReleaseGeometry(geometry);
