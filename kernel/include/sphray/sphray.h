@@ -138,8 +138,7 @@ SPHRAY_API int sphray_scene_set_masks(sphray_scene* scene, const uint32_t* masks
 SPHRAY_API int sphray_scene_size(const sphray_scene* scene, size_t* count);
 
 /* Frees the scene's spheres and tree. The handle then reports SPHRAY_ERROR_RELEASED_SCENE
- * wherever it is passed (the small handle itself is recycled by a later sphray_scene_create,
- * after which a stale copy names the new scene: do not keep one). */
+ * wherever it is passed, for good: no later sphray_scene_create returns it again. */
 SPHRAY_API int sphray_scene_release(sphray_scene* scene);
 
 /* hits[i] = the closest hit of rays[i], for i < count. */
