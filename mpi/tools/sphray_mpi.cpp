@@ -280,7 +280,7 @@ int run_render(const RenderArgs& args, Distribution distribution, MPI_Comm comm)
     mine = {kExitUsage, args.output + ": expected an output file ending in .png or .ppm"};
   } else {
     try {
-      scene = load_scene_or_preset(args.scene);
+      scene = load_scene_or_preset(args.scene, {args.radius});
       options.mode = *parse_mode(args.mode);  // CLI11 checked the name
       options.width = args.width > 0 ? args.width : scene->width;
       options.height = args.height > 0 ? args.height : scene->height;

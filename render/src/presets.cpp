@@ -5,6 +5,7 @@
 #include <numbers>
 #include <string>
 
+#include "sphray/particles/particles.hpp"
 #include "sphray/render/scene.hpp"
 
 namespace sphray::render {
@@ -119,11 +120,7 @@ Scene make_random(std::size_t n) {
     add_sphere(scene, {x, y, z}, radius, random_color(rng));
   }
   // A sphere bounding the box and the largest radius fits the vertical field of view.
-  float bound = 50.0f * std::numbers::sqrt3_v<float> + 1.5f * scale;
-  float vfov = 40.0f;
-  float distance = bound / std::sin(vfov / 2.0f * std::numbers::pi_v<float> / 180.0f);
-  Vec3 from = normalize(Vec3{1.0f, 0.6f, 1.6f}) * distance;
-  scene.camera = CameraSpec{from, {0, 0, 0}, {0, 1, 0}, vfov};
+  scene.camera = framing({0, 0, 0}, 50.0f * std::numbers::sqrt3_v<float> + 1.5f * scale);
   return scene;
 }
 
@@ -138,6 +135,13 @@ std::size_t parse_sphere_count(std::string_view text) {
 }
 
 }  // namespace
+
+CameraSpec framing(Vec3 center, float bound) {
+  float vfov = 40.0f;
+  float distance = bound / std::sin(vfov / 2.0f * std::numbers::pi_v<float> / 180.0f);
+  Vec3 from = center + normalize(Vec3{1.0f, 0.6f, 1.6f}) * distance;
+  return CameraSpec{from, center, {0, 1, 0}, vfov};
+}
 
 std::vector<std::string> preset_names() {
   return {"single", "three", "rtiow-final", "random:N"};
@@ -164,12 +168,13 @@ Scene make_preset(std::string_view name) {
                    ": expected a preset (single, three, rtiow-final, random:N) or a .json file");
 }
 
-Scene load_scene_or_preset(std::string_view name_or_file) {
+Scene load_scene_or_preset(std::string_view name_or_file, const SceneOptions& options) {
   bool is_preset_name = name_or_file == "single" || name_or_file == "three" ||
                         name_or_file == "rtiow-final" || name_or_file.starts_with("random:");
   if (is_preset_name) return make_preset(name_or_file);
   std::filesystem::path file(name_or_file);
   if (name_or_file == "-") return load_scene(file);  // standard input
+  if (particles::is_particle_file(file)) return load_particle_scene(file, options);
   // The non-throwing exists(): a name too long, a symbolic link loop or a folder that cannot
   // be searched is an error of the file, which load_scene reports, not a missing file.
   std::error_code error;

@@ -40,8 +40,16 @@ CLI::Validator seconds_validator() {
 }
 
 void add_render_options(CLI::App& render, RenderArgs& args, RenderArgsScope scope) {
-  render.add_option("--scene,-s", args.scene, "A preset (see `sphray scenes`) or a .json file")
+  render
+      .add_option("--scene,-s", args.scene,
+                  "A preset (see `sphray scenes`), a .json file or a particle file (.sphp, .xyz, "
+                  ".csv)")
       ->capture_default_str();
+  render
+      .add_option("--radius", args.radius,
+                  "The radius of every particle of a .xyz or .csv file without a radius column")
+      ->check(CLI::Range(0x1p-126, 1e17))
+      ->type_name("R");
   render.add_option("--mode,-m", args.mode, "What to show")
       ->check(CLI::IsMember(mode_names()))
       ->capture_default_str();

@@ -4,12 +4,14 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace sphray::render {
 
 struct RenderArgs {
   std::string scene = "rtiow-final";
+  std::optional<float> radius;  // the radius of a particle file's particles, if it has none
   std::string mode = "normals";
   std::string accel = "auto";
   int width = 0, height = 0;  // 0: the scene's own size

@@ -136,7 +136,7 @@ int run_render(const RenderArgs& args) {
   try {
     progress::Reporter reporter(!args.quiet, ::isatty(STDERR_FILENO) == 1, args.time_limit);
     reporter.phase(scene_phase(args.scene));
-    Scene scene = load_scene_or_preset(args.scene);
+    Scene scene = load_scene_or_preset(args.scene, {args.radius});
     RenderOptions options;
     options.mode = *parse_mode(args.mode);  // CLI11 checked the name
     choose_size(args, scene, options);

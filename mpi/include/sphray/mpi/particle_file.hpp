@@ -1,17 +1,7 @@
-// The particle file: spheres in a flat binary file that every rank of a job reads its own part
-// of, in parallel, without reading the rest.
-//
-//   bytes 0-7    magic "SPHRAYP\0"
-//   bytes 8-11   version, uint32 little-endian: 1
-//   bytes 12-15  zero (reserved)
-//   bytes 16-23  count, uint64 little-endian: the number of particles, below 2^32 - 1
-//   bytes 24-31  zero (reserved)
-//   then count records of 16 bytes: x, y, z, r as float32 little-endian
-//
-// Particle i (from 0, in file order) is sphere id i. The file is exactly 32 + 16 * count bytes;
-// anything else is refused. Writers should store particles in an order that keeps neighbours
-// together (write_particles uses a Morton curve), so that the equal runs of particles the ranks
-// read are compact regions of space.
+// The particle file (.sphp, sphray/particles/particles.hpp has its layout), read by every rank
+// of a job in parallel, each its own part, without reading the rest. The format, its checks and
+// its encoder live in sphray::particles; this is the collective read and the Morton-ordered
+// writer.
 #pragma once
 
 #include <mpi.h>
@@ -24,15 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "sphray/particles/particles.hpp"
 #include "sphray/sphray.hpp"
 
 namespace sphray::mpi {
 
 /// A file that cannot be read as a particle file; what() is one line naming the file.
-class ParticleFileError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+using ParticleFileError = particles::ParticleError;
 
 /// One rank's run of a particle file: its spheres and their ids (ascending, consecutive).
 struct ParticleShare {
@@ -50,7 +38,7 @@ struct ParticleShare {
 ParticleShare read_particle_share(MPI_Comm comm, const std::filesystem::path& file);
 
 /// Receives a file's bytes, in order, a piece at a time; throws to stop the writing.
-using ByteSink = std::function<void(const void* data, std::size_t size)>;
+using ByteSink = particles::ByteSink;
 
 /// The particle file of spheres, in Morton order of their centres (the ids in the file are then
 /// positions in that order, not spheres' ids), given to sink in pieces of at most 1 MiB. Throws

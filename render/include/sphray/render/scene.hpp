@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -87,9 +88,22 @@ struct MaterialEntry {
   bool albedo_given = false;
 };
 MaterialEntry parse_material(std::string_view json_text, const std::string& source);
-/// A preset if name_or_file names one (or starts with "random:"), else a JSON file ("-":
-/// standard input).
-Scene load_scene_or_preset(std::string_view name_or_file);
+/// What a particle file may leave to the caller.
+struct SceneOptions {
+  /// The radius of every particle of a text file without a radius column (`--radius`).
+  std::optional<float> radius;
+};
+/// A preset if name_or_file names one (or starts with "random:"), a particle file if its
+/// extension is .sphp, .xyz or .csv (load_particle_scene), else a JSON file ("-": standard input).
+Scene load_scene_or_preset(std::string_view name_or_file, const SceneOptions& options = {});
+/// The spheres of a particle file (sphray/particles/particles.hpp), their colours from the file
+/// (grey without), Lambertian, framed by framing(). Throws SceneError with the reader's message,
+/// or naming the first particle that is not finite with a positive radius of at most 1e17 (a
+/// .sphp file's floats are not checked by its reader) and its byte offset.
+Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions& options = {});
+/// The camera of random:N and of particle files: outside the ball of centre center and radius
+/// bound, looking at its centre from direction (1, 0.6, 1.6), vfov 40, the whole ball in view.
+CameraSpec framing(Vec3 center, float bound);
 
 /// The fixed, portable random numbers every preset draws from.
 class SceneRandom {
