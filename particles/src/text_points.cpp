@@ -200,19 +200,21 @@ class PointParser {
 
   float number(Column column) const {
     const std::size_t i = static_cast<std::size_t>(columns_[column]);
-    const std::string name =
-        "column " + std::to_string(i + 1) + " (" + std::string(kColumnNames[column]) + ")";
+    // The column's name for a message, made only when one is: this runs for every field.
+    const auto name = [&] {
+      return "column " + std::to_string(i + 1) + " (" + std::string(kColumnNames[column]) + ")";
+    };
     bool range = false;
     const std::optional<float> value = as_number(fields_[i], range);
-    if (range) fail(name + " within float's range, got " + quoted(fields_[i]));
-    if (!value) fail(name + " to be a number, got " + quoted(fields_[i]));
-    if (!std::isfinite(*value)) fail(name + " to be finite, got " + quoted(fields_[i]));
+    if (range) fail(name() + " within float's range, got " + quoted(fields_[i]));
+    if (!value) fail(name() + " to be a number, got " + quoted(fields_[i]));
+    if (!std::isfinite(*value)) fail(name() + " to be finite, got " + quoted(fields_[i]));
     if (column == kRadius && !(*value > 0))
-      fail(name + " to be positive, got " + quoted(fields_[i]));
+      fail(name() + " to be positive, got " + quoted(fields_[i]));
     if (column <= kRadius && std::abs(*value) > kMaxMagnitude)
-      fail(name + " at most 1e17 in magnitude, got " + quoted(fields_[i]));
+      fail(name() + " at most 1e17 in magnitude, got " + quoted(fields_[i]));
     if (column >= kRed && !(*value >= 0 && *value <= 255))
-      fail(name + " in [0, 1] or [0, 255], got " + quoted(fields_[i]));
+      fail(name() + " in [0, 1] or [0, 255], got " + quoted(fields_[i]));
     return *value;
   }
 
