@@ -137,8 +137,17 @@ void trace_rays(benchmark::State& state, const std::string& name, std::string_vi
 }
 
 void build(benchmark::State& state, std::string_view scene, const Builder& builder) {
-  const Workload& w = workload(scene, RayKind::coherent);
-  const std::function<Built()> step = builder.prepare(w.spheres);
+  time_build(state, workload(scene, RayKind::coherent).spheres, builder);
+}
+
+std::string threads_suffix(int threads) {
+  return "/threads:" + std::to_string(threads);
+}
+
+}  // namespace
+
+void time_build(benchmark::State& state, const SphereSoA& spheres, const Builder& builder) {
+  const std::function<Built()> step = builder.prepare(spheres);
   std::size_t bytes = 0;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
@@ -148,18 +157,12 @@ void build(benchmark::State& state, std::string_view scene, const Builder& build
     bytes = built.bytes;
     // built is released here, outside the measured interval
   }
-  const auto spheres = static_cast<double>(w.spheres.size());
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(w.spheres.size()));
-  state.counters["spheres"] = spheres;
+  const auto n = static_cast<double>(spheres.size());
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(spheres.size()));
+  state.counters["spheres"] = n;
   state.counters["threads"] = builder.threads;
-  state.counters["bytes_per_sphere"] = static_cast<double>(bytes) / spheres;
+  state.counters["bytes_per_sphere"] = static_cast<double>(bytes) / n;
 }
-
-std::string threads_suffix(int threads) {
-  return "/threads:" + std::to_string(threads);
-}
-
-}  // namespace
 
 void register_benchmarks(const std::vector<Implementation>& implementations,
                          const std::vector<Builder>& builders) {

@@ -3,6 +3,8 @@
 // all_implementations() and all_builders() in main.cpp.
 #pragma once
 
+#include <benchmark/benchmark.h>
+
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -103,6 +105,10 @@ void register_shadow_benchmarks();
 /// sphray::SphereBVH: per ray, and the stream on one and all threads; its build and refit.
 std::vector<Implementation> bvh_implementations();
 std::vector<Builder> bvh_builders();
+
+/// Times builder's step over spheres, each iteration alone (manual time), with the spheres,
+/// threads and bytes per sphere as counters.
+void time_build(benchmark::State& state, const SphereSoA& spheres, const Builder& builder);
 
 /// Registers one benchmark per workload and implementation, and one per scene and builder,
 /// grouped by scene so each workload is made once.

@@ -1,11 +1,13 @@
 // The sphray command: render, bench, scenes, info. A thin shell over sphray::render; every failure
 // is one line on stderr and an exit status: 2 for bad usage or input (refused before any work), 1
 // for a failure during the run (I/O, memory). No exception leaves main.
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -127,6 +129,35 @@ void print_summary(const RenderArgs& args, const RenderOptions& options, const R
   }
 }
 
+// Where a render's wall time went, for the second summary line: what a user of a large particle
+// file needs to see (docs/performance.md, "Particles at scale", reads it).
+struct Phases {
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point start = Clock::now();
+  double scene = 0, write = 0;
+  std::size_t spheres = 0;
+
+  static double since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  }
+};
+
+// The most memory the process has held, in bytes (Linux reports kilobytes).
+double peak_resident_bytes() {
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) * 1024.0;
+}
+
+void print_phases(const RenderStats& s, const Phases& p, double total) {
+  const double peak = peak_resident_bytes();
+  std::printf(
+      "phases: scene %.3f s, tree %.3f s, render %.3f s, write %.3f s; first image in %.3f s; "
+      "peak memory %.1f MB (%.1f bytes per sphere)\n",
+      p.scene, s.build_seconds, s.seconds, p.write, total, peak / 1e6,
+      p.spheres > 0 ? peak / static_cast<double>(p.spheres) : 0.0);
+}
+
 int run_render(const RenderArgs& args) {
   // Everything that can be refused is refused before the scene is built or a ray is traced.
   if (!image_format_for(args.output)) {
@@ -134,9 +165,12 @@ int run_render(const RenderArgs& args) {
     return kExitUsage;
   }
   try {
+    Phases phases;
     progress::Reporter reporter(!args.quiet, ::isatty(STDERR_FILENO) == 1, args.time_limit);
     reporter.phase(scene_phase(args.scene));
     Scene scene = load_scene_or_preset(args.scene, {args.radius});
+    phases.scene = Phases::since(phases.start);
+    phases.spheres = scene.spheres.size();
     RenderOptions options;
     options.mode = *parse_mode(args.mode);  // CLI11 checked the name
     choose_size(args, scene, options);
@@ -159,9 +193,15 @@ int run_render(const RenderArgs& args) {
         },
         &stats);
     reporter.phase("writing " + args.output);
+    const auto write_start = Phases::Clock::now();
     output.commit(image);
+    phases.write = Phases::since(write_start);
+    const double total = Phases::since(phases.start);
     reporter.finish();
-    if (!args.quiet) print_summary(args, options, stats);
+    if (!args.quiet) {
+      print_summary(args, options, stats);
+      print_phases(stats, phases, total);
+    }
     return 0;
   } catch (const SceneError& e) {
     report(e.what());

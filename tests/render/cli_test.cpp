@@ -151,6 +151,27 @@ TEST_F(Cli, ProgressWhenNotATerminalIsPlainLines) {
   EXPECT_EQ(r.out.rfind("wrote ", 0), 0u) << r.out;
 }
 
+// The second summary line: where the time went and the peak memory. Checked against what must
+// be true whatever the machine: the phases fit in the total, and the peak holds at least the
+// spheres themselves (16 bytes each), so a unit slip (kilobytes for bytes) fails.
+TEST_F(Cli, SummaryShowsThePhasesAndThePeakMemory) {
+  const Result r = run("render -s random:200000 -m normals -W 32 -H 32 -o " + path("m.png"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  const std::size_t at = r.out.find("phases: ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  double scene = 0, tree = 0, render = 0, write = 0, total = 0, mb = 0, per_sphere = 0;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + at,
+                        "phases: scene %lf s, tree %lf s, render %lf s, write %lf s; first image "
+                        "in %lf s; peak memory %lf MB (%lf bytes per sphere)",
+                        &scene, &tree, &render, &write, &total, &mb, &per_sphere),
+            7)
+      << r.out;
+  EXPECT_GT(tree, 0.0) << r.out;  // 200,000 spheres: a tree
+  EXPECT_LE(scene + tree + render + write, total + 0.002) << r.out;
+  EXPECT_GE(mb * 1e6, 200000.0 * 16) << r.out;
+  EXPECT_NEAR(per_sphere, mb * 1e6 / 200000, 0.1 + 1e-3 * per_sphere) << r.out;
+}
+
 namespace progress = sphray::render::progress;
 
 // One unit for every rate, the summary's and the bar's: small rates get more decimals, not

@@ -1,0 +1,171 @@
+#!/usr/bin/python3
+"""Particles at scale: from a particle file on disk to the first image, at 1M, 10M and 100M.
+
+For each size it writes a .sphp file of random spheres (bench/make_cloud.py; kept and reused
+when already there), then
+  - renders it: `sphray render -s FILE -m normals -W 1920 -H 1080 --spp 1`, whose second summary
+    line gives the phases (scene read, tree, render, write), the first image's time and the peak
+    resident memory;
+  - times reading it and building sphray's tree and Embree's over the same spheres, on one and on
+    all threads: `sphray_bench_particles --particles=FILE`.
+It prints the table of docs/performance.md, "Particles at scale", and the goals of issue 34 met or
+missed. A size that does not fit the machine's free memory is left out, said so.
+
+Run from the repository root after a release build (about 15 minutes at the three sizes):
+    /usr/bin/python3 bench/particles_scale.py --dir /tmp/particles --out scale.json
+    /usr/bin/python3 bench/particles_scale.py --sizes 1000000 --dir /tmp/particles   # quick
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "bench"))
+import make_cloud  # noqa: E402
+
+PHASES = re.compile(
+    r"phases: scene (?P<scene>[\d.]+) s, tree (?P<tree>[\d.]+) s, render (?P<render>[\d.]+) s, "
+    r"write (?P<write>[\d.]+) s; first image in (?P<first>[\d.]+) s; peak memory (?P<mb>[\d.]+) MB")
+
+
+def free_bytes():
+    with open("/proc/meminfo") as f:
+        for line in f:
+            if line.startswith("MemAvailable:"):
+                return int(line.split()[1]) * 1024
+    return 0
+
+
+def render(sphray, path, out_png):
+    cmd = [sphray, "render", "-s", path, "-m", "normals", "-W", "1920", "-H", "1080", "--spp", "1",
+           "-o", out_png, "--force"]
+    run = subprocess.run(cmd, capture_output=True, text=True, check=True)
+    m = PHASES.search(run.stdout)
+    if not m:
+        sys.exit("no phases line in: " + run.stdout)
+    shown = cmd[:-3] + ["-o", "cloud.png"]
+    return {k: float(v) for k, v in m.groupdict().items()}, " ".join(shown)
+
+
+def bench(program, path, min_time):
+    cmd = [program, "--particles=" + path, "--benchmark_min_time=%g" % min_time,
+           "--benchmark_format=json"]
+    run = subprocess.run(cmd, capture_output=True, text=True, check=True)
+    rows = {}
+    for b in json.loads(run.stdout)["benchmarks"]:
+        rows[b["name"].replace("/manual_time", "")] = b
+    return rows, " ".join(cmd[:-1])
+
+
+def seconds(row):
+    assert row["time_unit"] == "ms"
+    return row["real_time"] / 1e3
+
+
+def measure(n, args):
+    path = os.path.join(args.dir, "cloud%d.sphp" % n)
+    if not os.path.exists(path) or os.path.getsize(path) != 32 + 16 * n:
+        make_cloud.write_cloud(n, path, seed=1)
+    phases, render_cmd = render(args.sphray, path, os.path.join(args.dir, "cloud%d.png" % n))
+    rows, bench_cmd = bench(args.bench, path, args.min_time)
+    return {"spheres": n, "file_bytes": 32 + 16 * n, "render": phases, "rows": rows,
+            "render_command": render_cmd, "bench_command": bench_cmd}
+
+
+def short(n):
+    return "%dM" % (n // 1000000) if n % 1000000 == 0 else str(n)
+
+
+def table(results, threads):
+    lines = [
+        "| spheres | read (GB/s) | tree build, %d threads (ns per sphere) | tree bytes per sphere "
+        "| rtcCommitScene, %d threads (ns per sphere) | Embree bytes per sphere | build / Embree's "
+        "| first image: scene, tree, render, write | peak memory (bytes per sphere) |" % (threads, threads),
+        "|---|---|---|---|---|---|---|---|---|"]
+    for r in results:
+        n, rows, p = r["spheres"], r["rows"], r["render"]
+        read = rows["particles/read"]
+        tree = rows["particles/build/bvh/threads:%d" % threads]
+        emb = rows.get("particles/build/embree/threads:%d" % threads)
+        t = seconds(tree)
+        e = seconds(emb) if emb else None
+        lines.append(
+            "| %s | %.3f s (%.2f) | %.2f s (%.0f) | %.1f | %s | %s | %s | %.1f s: %.2f, %.2f, %.2f, %.2f s "
+            "| %.2f GB (%.1f) |" % (
+                short(n), seconds(read), read["bytes_per_second"] / 1e9, t, t / n * 1e9,
+                tree["bytes_per_sphere"],
+                "%.2f s (%.0f)" % (e, e / n * 1e9) if e else "-",
+                "%.1f" % emb["bytes_per_sphere"] if emb else "-",
+                "%.2fx" % (t / e) if e else "-",
+                p["first"], p["scene"], p["tree"], p["render"], p["write"],
+                p["mb"] / 1e3, p["mb"] * 1e6 / n))
+    return "\n".join(lines)
+
+
+def goals(results, threads):
+    out = []
+    first, last = results[0], results[-1]
+    for r in results:
+        over = r["render"]["mb"] * 1e6 / r["spheres"] - 16
+        out.append("- peak memory over the file's 16 bytes, %s: %.1f bytes per sphere (goal <= 48): %s"
+                   % (short(r["spheres"]), over, "met" if over <= 48 else "missed"))
+    key = "particles/build/bvh/threads:%d" % threads
+    per = [seconds(r["rows"][key]) / r["spheres"] for r in results]
+    ratio = per[-1] / per[0]
+    out.append("- tree build per sphere, %s against %s: %.2fx (goal <= 1.3x): %s"
+               % (short(last["spheres"]), short(first["spheres"]), ratio,
+                  "met" if ratio <= 1.3 else "missed"))
+    for r in results:
+        emb = r["rows"].get("particles/build/embree/threads:%d" % threads)
+        if emb:
+            x = seconds(r["rows"][key]) / seconds(emb)
+            out.append("- tree build against rtcCommitScene, %s: %.2fx (goal <= 0.5x): %s"
+                       % (short(r["spheres"]), x, "met" if x <= 0.5 else "missed"))
+        gbs = r["rows"]["particles/read"]["bytes_per_second"] / 1e9
+        out.append("- reading the .sphp, %s: %.2f GB/s (goal >= 1): %s"
+                   % (short(r["spheres"]), gbs, "met" if gbs >= 1 else "missed"))
+    return "\n".join(out)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--sizes", type=int, nargs="+", default=[1000000, 10000000, 100000000])
+    p.add_argument("--dir", default="build/particles-scale", help="where the files go")
+    p.add_argument("--sphray", default="build/release/render/sphray")
+    p.add_argument("--bench", default="build/release/bench/sphray_bench_particles")
+    p.add_argument("--min-time", type=float, default=1.0, help="Google Benchmark's, per row")
+    p.add_argument("--threads", type=int, default=os.cpu_count())
+    p.add_argument("--out", help="also write the measurements as JSON")
+    args = p.parse_args()
+    os.makedirs(args.dir, exist_ok=True)
+    results = []
+    for n in args.sizes:
+        # The render holds the spheres and a tree; the bench holds them, sphray's tree and
+        # Embree's: about 150 bytes per sphere at most.
+        if free_bytes() < 150 * n:
+            print("left out: %d spheres need about %.1f GB, %.1f GB available"
+                  % (n, 150 * n / 1e9, free_bytes() / 1e9))
+            continue
+        start = time.time()
+        results.append(measure(n, args))
+        print("measured %d spheres in %.0f s" % (n, time.time() - start), file=sys.stderr)
+    if not results:
+        sys.exit("nothing measured")
+    with open("/proc/loadavg") as f:
+        load = f.read().split()[:3]
+    print("Load average at the end: %s." % ", ".join(load))
+    print("Commands: `%s`, `%s`.\n" % (results[0]["render_command"], results[0]["bench_command"]))
+    print(table(results, args.threads))
+    print()
+    print(goals(results, args.threads))
+    if args.out:
+        with open(args.out, "w") as f:
+            json.dump({"load_average": load, "results": results}, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
