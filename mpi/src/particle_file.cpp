@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <new>
+#include <string>
 
 #include "sphray/mpi/agreement.hpp"
 #include "sphray/mpi/spatial_split.hpp"
@@ -37,18 +39,57 @@ std::uint64_t sample_hash(const SphpFile& in) {
   return hash.value();
 }
 
-ParticleShare read_run(const std::filesystem::path& path, int rank, int ranks,
-                       std::uint64_t& hash) {
+// Particles [total * rank / ranks, total * (rank + 1) / ranks): every rank's run.
+std::uint64_t run_start(std::uint64_t total, int rank, int ranks) {
+  return total * static_cast<std::uint64_t>(rank) / static_cast<std::uint64_t>(ranks);
+}
+
+ParticleShare read_sphp_run(const std::filesystem::path& path, int rank, int ranks,
+                            std::uint64_t& hash) {
   const SphpFile in(path);
   ParticleShare share;
   share.total = in.count();
   hash = sample_hash(in);
-  const std::uint64_t first =
-      share.total * static_cast<std::uint64_t>(rank) / static_cast<std::uint64_t>(ranks);
-  const std::uint64_t end =
-      share.total * static_cast<std::uint64_t>(rank + 1) / static_cast<std::uint64_t>(ranks);
-  in.read(first, end, share.spheres, &share.ids);
+  in.read(run_start(share.total, rank, ranks), run_start(share.total, rank + 1, ranks),
+          share.spheres, &share.ids);
   return share;
+}
+
+// Any other particle file (text, PLY, PDB) has no offsets to read a run at: every rank reads
+// the whole file and keeps its run. A .sphp file (`sphray convert`) is the format for many
+// ranks. The hash covers the count and the same sample of particles as a .sphp file's.
+ParticleShare read_other_run(const std::filesystem::path& path, int rank, int ranks,
+                             std::uint64_t& hash) {
+  const particles::Points all = particles::read_particle_file(path);
+  const SphereView v = all.spheres.view();
+  ParticleShare share;
+  share.total = v.count;
+  Fnv1a sample;
+  sample.add(&share.total, sizeof share.total);
+  const std::uint64_t samples = std::min<std::uint64_t>(v.count, kSampleRecords);
+  for (std::uint64_t k = 0; k < samples; ++k) {
+    const std::size_t i = v.count * k / samples;
+    const float record[4] = {v.cx[i], v.cy[i], v.cz[i], v.radius[i]};
+    sample.add(record, sizeof record);
+  }
+  hash = sample.value();
+  const std::uint64_t first = run_start(v.count, rank, ranks);
+  const std::uint64_t end = run_start(v.count, rank + 1, ranks);
+  share.spheres.reserve(end - first);
+  share.ids.reserve(end - first);
+  for (std::uint64_t i = first; i < end; ++i) {
+    share.spheres.add({v.cx[i], v.cy[i], v.cz[i]}, v.radius[i]);
+    share.ids.push_back(static_cast<std::uint32_t>(i));
+  }
+  return share;
+}
+
+// A file of another format by its extension is read whole; any other file is taken for a .sphp
+// file, whatever its name, as before other formats were read, and refused by its header if not.
+ParticleShare read_run(const std::filesystem::path& path, int rank, int ranks,
+                       std::uint64_t& hash) {
+  const bool other = particles::is_particle_file(path) && !SphpFile::named(path);
+  return other ? read_other_run(path, rank, ranks, hash) : read_sphp_run(path, rank, ranks, hash);
 }
 
 }  // namespace

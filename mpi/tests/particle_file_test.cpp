@@ -23,6 +23,7 @@
 namespace {
 
 using sphray::mpi::test::rank;
+using sphray::mpi::test::ranks;
 
 using sphray::mpi::ParticleFileError;
 
@@ -123,6 +124,35 @@ TEST(MpiParticleFile, RanksReadTheWholeFileAndAnswerAsOneProcess) {
     const sphray::Hit expected = sphray::scalar::intersect(all.view(), rays[i]);
     EXPECT_EQ(hits[i].id, expected.id) << "ray " << i;
     EXPECT_EQ(std::bit_cast<std::uint32_t>(hits[i].t), std::bit_cast<std::uint32_t>(expected.t));
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank() == 0) std::filesystem::remove(file);
+}
+
+// A text file has no offsets to read at: every rank reads it whole and keeps the same run of it
+// as of the .sphp file of the same particles; together the ranks hold every particle once.
+TEST(MpiParticleFile, RanksReadTheirRunOfATextFile) {
+  const auto file = scratch("points.xyz");
+  const int n = 1001;
+  if (rank() == 0) {
+    std::ofstream out(file);
+    for (int i = 0; i < n; ++i)  // exact in float and in decimal
+      out << i << " " << -i << " " << 0.5 * i << " " << 0.25 + 0.125 * (i % 4) << "\n";
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  const sphray::mpi::ParticleShare share = sphray::mpi::read_particle_share(MPI_COMM_WORLD, file);
+  EXPECT_EQ(share.total, static_cast<std::uint64_t>(n));
+  const auto count = static_cast<std::uint64_t>(ranks());
+  const auto me = static_cast<std::uint64_t>(rank());
+  ASSERT_EQ(share.ids.size(), n * (me + 1) / count - n * me / count);
+  for (std::size_t k = 0; k < share.ids.size(); ++k) {
+    const std::uint32_t id = share.ids[k];
+    EXPECT_EQ(id, n * me / count + k);
+    const sphray::Vec3 c = share.spheres.center(static_cast<std::uint32_t>(k));
+    EXPECT_EQ(c.x, static_cast<float>(id));
+    EXPECT_EQ(c.y, -static_cast<float>(id));
+    EXPECT_EQ(c.z, 0.5f * static_cast<float>(id));
+    EXPECT_EQ(share.spheres.radius(static_cast<std::uint32_t>(k)), 0.25f + 0.125f * (id % 4));
   }
   MPI_Barrier(MPI_COMM_WORLD);
   if (rank() == 0) std::filesystem::remove(file);

@@ -318,6 +318,10 @@ Points read_points(const std::filesystem::path& file, const PointOptions& option
   }
 }
 
+bool SphpFile::named(const std::filesystem::path& path) {
+  return lower(path.extension().string()) == ".sphp";
+}
+
 bool is_particle_file(const std::filesystem::path& path) {
   const std::string ext = lower(path.extension().string());
   return ext == ".sphp" || ext == ".xyz" || ext == ".csv";
@@ -325,7 +329,7 @@ bool is_particle_file(const std::filesystem::path& path) {
 
 Points read_particle_file(const std::filesystem::path& path, const PointOptions& options) {
   const std::string ext = lower(path.extension().string());
-  if (ext == ".sphp") return {read_sphp(path), {}};
+  if (SphpFile::named(path)) return {read_sphp(path), {}};
   if (ext == ".xyz" || ext == ".csv") return read_points(path, options);
   throw ParticleError(path.string() + ": expected a particle file ending in .sphp, .xyz or .csv");
 }

@@ -29,8 +29,10 @@ struct ParticleShare {
   std::uint64_t total = 0;  // particles in the whole file
 };
 
-/// Rank r of p reads particles [total * r / p, total * (r + 1) / p). Only a regular file is
-/// read (a FIFO or a device is refused at once, never waited on). Collective over comm: the
+/// Rank r of p reads particles [total * r / p, total * (r + 1) / p) of a .sphp file, without
+/// reading the rest. Any other particle file sphray::particles reads (text, and the formats
+/// read_particle_file adds) is read whole by every rank, which keeps its run. Only a regular file
+/// is read (a FIFO or a device is refused at once, never waited on). Collective over comm: the
 /// ranks agree on the outcome, so when any of them cannot read its part every rank throws
 /// ParticleFileError with the lowest such rank's message, and none is left waiting. The ranks
 /// also compare the particle count and a hash of the header and of 256 records spread over the

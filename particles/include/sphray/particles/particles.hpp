@@ -65,6 +65,9 @@ class SphpFile {
   SphpFile(const SphpFile&) = delete;
   SphpFile& operator=(const SphpFile&) = delete;
 
+  /// Whether path's extension is .sphp (any case).
+  static bool named(const std::filesystem::path& path);
+
   std::uint64_t count() const { return count_; }
   const std::filesystem::path& path() const { return path_; }
   /// Exactly n bytes at offset, or a ParticleError.
