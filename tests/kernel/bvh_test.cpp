@@ -232,6 +232,18 @@ TEST(Bvh, RefitThenQueryEqualsRebuildThenQuery) {
   }
 }
 
+// The tree's limit, 2^31 spheres (docs/bvh.md), is refused before a sphere is read or a byte is
+// allocated: the view's arrays here do not exist.
+TEST(Bvh, MoreThan2To31SpheresAreRefusedBeforeAnyWork) {
+  const sphray::SphereView huge{nullptr, nullptr, nullptr, nullptr, (std::size_t{1} << 31) + 1};
+  try {
+    const sphray::SphereBVH tree(huge);
+    ADD_FAILURE() << "built a tree of 2^31 + 1 spheres";
+  } catch (const std::length_error& e) {
+    EXPECT_NE(std::string(e.what()).find("2^31"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Bvh, RefitRejectsAnotherCount) {
   std::mt19937 rng(8);
   const test::LooseSpheres scene = make_scene(Kind::uniform, 100, rng);

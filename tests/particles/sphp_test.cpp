@@ -100,4 +100,45 @@ TEST_F(Sphp, BrokenFilesAreRefusedNamingTheFile) {
       path("fifo.sphp").string() + ": not a regular file (a FIFO: ranks read at offsets)");
 }
 
+// The largest file the format holds, 2^32 - 2 particles (64 GiB), as a sparse file: only its
+// header and last record take disk space. The header's count, the size check and the offset of
+// the last record (past 2^36 bytes) are computed without overflow, and that record reads back
+// with its id; one particle more is refused before any record is read.
+TEST_F(Sphp, TheLargestFileReadsItsLastParticleAtItsOffset) {
+  constexpr std::uint64_t kLargest = (std::uint64_t{1} << 32) - 2;
+  const sphray::SphereSoA one = sphray::particles::test::random_spheres(1);
+  std::string bytes = encode(one.view());
+  for (int i = 0; i < 8; ++i)  // the count, little-endian
+    bytes[16 + i] = static_cast<char>((kLargest >> (8 * i)) & 0xff);
+  const std::filesystem::path file = path("largest.sphp");
+  {
+    std::ofstream out(file, std::ios::binary);
+    out.write(bytes.data(), 32);
+    out.seekp(static_cast<std::streamoff>(32 + 16 * (kLargest - 1)));
+    out.write(bytes.data() + 32, 16);
+    ASSERT_TRUE(out.good()) << "the file system cannot hold a 64 GiB sparse file";
+  }
+  ASSERT_EQ(std::filesystem::file_size(file), 32 + 16 * kLargest);
+  const sphray::particles::SphpFile in(file);
+  EXPECT_EQ(in.count(), kLargest);
+  sphray::SphereSoA last;
+  std::vector<std::uint32_t> ids;
+  in.read(kLargest - 1, kLargest, last, &ids);
+  ASSERT_EQ(last.size(), 1u);
+  EXPECT_EQ(ids, std::vector<std::uint32_t>{0xfffffffdu});  // 2^32 - 3, the last id
+  EXPECT_EQ(last.center(0).x, one.center(0).x);
+  EXPECT_EQ(last.radius(0), one.radius(0));
+
+  for (int i = 0; i < 4; ++i)  // 2^32 - 1: one too many
+    bytes[16 + i] = static_cast<char>(0xff);
+  std::filesystem::resize_file(file, 0);
+  write(file, bytes.substr(0, 32));
+  std::filesystem::resize_file(file, 32 + 16 * (kLargest + 1));
+  expect_refused([&] { sphray::particles::SphpFile{file}; },
+                 file.string() + ": corrupt header: 4294967295 particles, at most 2^32 - 2");
+  EXPECT_THROW(sphray::particles::check_particle_count(kLargest + 1),
+               sphray::particles::ParticleError);
+  EXPECT_NO_THROW(sphray::particles::check_particle_count(kLargest));
+}
+
 }  // namespace
