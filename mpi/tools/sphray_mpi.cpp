@@ -109,6 +109,9 @@ std::uint64_t scene_hash(const Scene& scene) {
     hash.add_value(m.fuzz);
     hash.add_value(m.ior);
   }
+  hash.add_value(scene.default_material.kind);  // --material: every particle's
+  hash.add_value(scene.default_material.fuzz);
+  hash.add_value(scene.default_material.ior);
   hash.add_value(scene.sky.horizon);
   hash.add_value(scene.sky.zenith);
   const CameraSpec& c = scene.camera;
@@ -280,7 +283,8 @@ int run_render(const RenderArgs& args, Distribution distribution, MPI_Comm comm)
     mine = {kExitUsage, args.output + ": expected an output file ending in .png or .ppm"};
   } else {
     try {
-      scene = load_scene_or_preset(args.scene, {args.radius});
+      scene = load_scene_or_preset(args.scene, scene_options(args));
+      apply_camera(args.camera, *scene);
       options.mode = *parse_mode(args.mode);  // CLI11 checked the name
       options.width = args.width > 0 ? args.width : scene->width;
       options.height = args.height > 0 ? args.height : scene->height;

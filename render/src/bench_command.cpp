@@ -205,6 +205,7 @@ int run_bench(const BenchArgs& args) {
   Scene scene;
   try {
     scene = load_scene_or_preset(args.scene);
+    apply_camera(args.camera, scene);
   } catch (const SceneError& e) {
     std::fprintf(stderr, "sphray: %s\n", e.what());
     return kExitUsage;

@@ -4,11 +4,14 @@
 
 #include <string>
 
+#include "render_args.hpp"
+
 namespace sphray::render::bench {
 
 struct BenchArgs {
   std::string scene = "rtiow-final";
   std::string rays = "both";  // camera, random or both
+  CameraArgs camera;          // the camera rays' camera, over the scene's
   int threads = 1;
   double seconds = 0.5;  // per row, shared among its repetitions
   int repetitions = 3;

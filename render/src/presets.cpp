@@ -171,10 +171,16 @@ Scene make_preset(std::string_view name) {
 Scene load_scene_or_preset(std::string_view name_or_file, const SceneOptions& options) {
   bool is_preset_name = name_or_file == "single" || name_or_file == "three" ||
                         name_or_file == "rtiow-final" || name_or_file.starts_with("random:");
-  if (is_preset_name) return make_preset(name_or_file);
   std::filesystem::path file(name_or_file);
+  const bool particle_file = !is_preset_name && particles::is_particle_file(file);
+  // A preset or a scene file gives each sphere its material; one for all would silently
+  // override them (docs/decisions.md, "A camera and materials on the command line").
+  if (options.material && !particle_file)
+    throw SceneError("--material applies to particle files (.xyz, .csv, .sphp), not to " +
+                     std::string(name_or_file));
+  if (is_preset_name) return make_preset(name_or_file);
   if (name_or_file == "-") return load_scene(file);  // standard input
-  if (particles::is_particle_file(file)) return load_particle_scene(file, options);
+  if (particle_file) return load_particle_scene(file, options);
   // The non-throwing exists(): a name too long, a symbolic link loop or a folder that cannot
   // be searched is an error of the file, which load_scene reports, not a missing file.
   std::error_code error;

@@ -110,7 +110,7 @@ class Shader {
   Vec3 diffuse(const Ray& ray, const Hit& hit, bool lit) const {
     const Surface s = surface(view_, ray, hit);
     const Vec3 normal = s.front_face ? s.normal : -s.normal;
-    const Vec3 albedo = scene_.colors[hit.id];
+    const Vec3 albedo = color_of(scene_, hit.id);  // grey without colours
     const float light = lit ? dot(normal, kLight) : 0.0f;
     return (kAmbient + (1.0f - kAmbient) * light) * albedo;
   }

@@ -1,5 +1,6 @@
-// Particle files as scenes: the readers of sphray::particles, the colours they give (grey
-// without), and the camera framed on the particles' box as random:N's is on its own.
+// Particle files as scenes: the readers of sphray::particles, the colours they give (none stored
+// without: an empty Scene::colors is grey everywhere, and 100M spheres would spend 1.2 GB on one
+// grey), the material asked for, and the camera framed on the particles' box as random:N's is.
 #include <algorithm>
 #include <cmath>
 
@@ -39,8 +40,8 @@ Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions&
     hi = {std::max(hi.x, c.x + r), std::max(hi.y, c.y + r), std::max(hi.z, c.z + r)};
   }
   scene.spheres = std::move(points.spheres);
-  scene.colors = points.colors.empty() ? std::vector<Vec3>(v.count, Vec3{0.5f, 0.5f, 0.5f})
-                                       : std::move(points.colors);
+  scene.colors = std::move(points.colors);  // empty without colours: grey (color_of)
+  if (options.material) scene.default_material = *options.material;
   // Half the box's diagonal bounds every sphere; computed in double, the corners of a box up to
   // 1e17 across stay finite.
   const double dx = double{hi.x} - lo.x, dy = double{hi.y} - lo.y, dz = double{hi.z} - lo.z;

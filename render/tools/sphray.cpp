@@ -168,7 +168,8 @@ int run_render(const RenderArgs& args) {
     Phases phases;
     progress::Reporter reporter(!args.quiet, ::isatty(STDERR_FILENO) == 1, args.time_limit);
     reporter.phase(scene_phase(args.scene));
-    Scene scene = load_scene_or_preset(args.scene, {args.radius});
+    Scene scene = load_scene_or_preset(args.scene, scene_options(args));
+    apply_camera(args.camera, scene);
     phases.scene = Phases::since(phases.start);
     phases.spheres = scene.spheres.size();
     RenderOptions options;
@@ -289,6 +290,7 @@ void add_bench_options(CLI::App& bench, sphray::render::bench::BenchArgs& args) 
                   "Times each row is timed: its rate is their median, its spread min to max")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  add_camera_options(bench, args.camera);  // the camera rays' camera
   bench.add_option("--json", args.json, "Also write the results as Google Benchmark JSON");
   bench.add_flag("--force,-f", args.force, "Replace the --json file even if it is read-only");
   bench.add_flag("--quiet,-q", args.quiet, "No progress line on stderr");

@@ -3,8 +3,11 @@
 // with exit status 2, one line naming the file and line, and the output untouched.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <numbers>
 #include <string>
+#include <vector>
 
 #include <stb/stb_image.h>
 
@@ -67,6 +70,179 @@ TEST_F(ParticleCli, AGivenRadiusAndTheFilesColoursAreUsed) {
   EXPECT_EQ(centre[1], 0);
   EXPECT_EQ(centre[2], 0);
   stbi_image_free(data);
+}
+
+struct Pixels {
+  int width = 0, height = 0;
+  std::vector<int> rgb;
+  const int* at(int x, int y) const {
+    return &rgb[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                     static_cast<std::size_t>(x))];
+  }
+};
+
+Pixels load(const std::string& file) {
+  Pixels p;
+  int channels = 0;
+  stbi_uc* data = stbi_load(file.c_str(), &p.width, &p.height, &channels, 3);
+  if (data == nullptr) return p;
+  p.rgb.assign(data, data + 3 * p.width * p.height);
+  stbi_image_free(data);
+  return p;
+}
+
+// The camera the colour and material tests look through: on the +z axis at distance 10, looking
+// at the origin, vfov 20, onto a square image of 101 pixels a side.
+const char kCamera[] = " --lookfrom 0,0,10 --lookat 0,0,0 --vfov 20 -W 101 -H 101";
+constexpr int kSide = 101;
+const double kHalf = std::tan(10.0 * std::numbers::pi / 180.0);  // tan(vfov / 2)
+
+// The pixel the point (x, y, z) projects to through kCamera (the book's pinhole, written out).
+std::pair<int, int> pixel_of(double x, double y, double z) {
+  const double scale = kSide / (2.0 * kHalf * (10.0 - z));
+  return {static_cast<int>(kSide / 2.0 + x * scale), static_cast<int>(kSide / 2.0 - y * scale)};
+}
+
+// Two particles with colours that no mode's constant gives, left and right of the origin.
+const char kTwoColours[] =
+    "x y z radius red green blue\n-0.9 0 0 0.8 0.8 0.4 0.2\n"
+    "0.9 0 0 0.8 0.1 0.5 0.9\n";
+
+TEST_F(ParticleCli, ShadedAndPathModesShowEachParticlesColourFlatModeItsRed) {
+  write_text(path("two.xyz"), kTwoColours);
+  const double colours[2][3] = {{0.8, 0.4, 0.2}, {0.1, 0.5, 0.9}};
+  const std::pair<int, int> centres[2] = {pixel_of(-0.9, 0, 0.8), pixel_of(0.9, 0, 0.8)};
+  for (const char* mode : {"flat", "shaded", "path"}) {
+    const std::string out = path(std::string(mode) + ".png");
+    const auto r = run_sphray(std::string("render -q --spp 16 -m ") + mode + kCamera + " -s " +
+                              path("two.xyz") + " -o " + out);
+    ASSERT_EQ(r.status, 0) << r.out;
+    const Pixels image = load(out);
+    ASSERT_EQ(image.width, kSide);
+    for (int k = 0; k < 2; ++k) {
+      const int* p = image.at(centres[k].first, centres[k].second);
+      const double* c = colours[k];
+      if (std::string(mode) == "flat") {  // flat paints every hit red, whatever its colour
+        EXPECT_EQ(p[0], 255);
+        EXPECT_EQ(p[1] + p[2], 0);
+      } else if (std::string(mode) == "shaded") {
+        // colour * light, gamma 2: the squared bytes keep the colour's ratios. The light is
+        // read off the brightest channel, whose byte rounds least in proportion.
+        const int top = c[0] > c[2] ? 0 : 2;
+        const double light = (p[top] + 0.5) / 255.999 / std::sqrt(c[top]);
+        for (int i = 0; i < 3; ++i)
+          EXPECT_NEAR(p[i], 255.999 * light * std::sqrt(c[i]), 1.5) << "particle " << k;
+      } else {  // path: the albedo tints the sky, whose blue is never below its red
+        EXPECT_EQ(p[0] > p[2], c[0] > c[2]) << "particle " << k;
+      }
+    }
+  }
+}
+
+TEST_F(ParticleCli, AFileWithoutColoursRendersAsOneWithGreyColours) {
+  write_text(path("plain.xyz"), "-0.9 0 0 0.8\n0.9 0 0 0.8\n0 0.9 -1 0.5\n");
+  write_text(path("grey.xyz"),
+             "-0.9 0 0 0.8 0.5 0.5 0.5\n0.9 0 0 0.8 0.5 0.5 0.5\n"
+             "0 0.9 -1 0.5 0.5 0.5 0.5\n");
+  for (const char* mode : {"shaded", "path"}) {
+    for (const char* material : {"lambertian", "metal:0.3"}) {
+      std::string images[2];
+      for (int k = 0; k < 2; ++k) {
+        const std::string out = path("out" + std::to_string(k) + ".ppm");
+        const auto r =
+            run_sphray(std::string("render -q --spp 4 -m ") + mode + " --material " + material +
+                       kCamera + " -s " + path(k == 0 ? "plain.xyz" : "grey.xyz") + " -o " + out);
+        ASSERT_EQ(r.status, 0) << r.out;
+        images[k] = read_bytes(out);
+      }
+      EXPECT_EQ(images[0], images[1]) << mode << ", " << material;
+    }
+  }
+}
+
+// What a fuzzless mirror of albedo 1 shows through the centre of pixel (px, py) of kCamera: the
+// sky gradient in the direction the ray leaves the unit sphere at the origin, gamma 2, as bytes.
+std::vector<int> mirror_bytes(int px, int py) {
+  const double scale = 2.0 * kHalf / kSide;
+  double d[3] = {(px + 0.5 - kSide / 2.0) * scale, (kSide / 2.0 - py - 0.5) * scale, -1.0};
+  const double o[3] = {0, 0, 10};
+  const double a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  const double b = o[2] * d[2];  // dot(o, d)
+  const double t = (-b - std::sqrt(b * b - a * (100.0 - 1.0))) / a;
+  const double n[3] = {t * d[0], t * d[1], o[2] + t * d[2]};  // unit: the sphere's radius is 1
+  const double dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+  double r[3];
+  for (int i = 0; i < 3; ++i)
+    r[i] = d[i] - 2.0 * dn * n[i];
+  const double up = 0.5 * (r[1] / std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) + 1.0);
+  const double sky[3] = {1.0 - 0.5 * up, 1.0 - 0.3 * up, 1.0};
+  return {static_cast<int>(255.999 * std::sqrt(sky[0])),
+          static_cast<int>(255.999 * std::sqrt(sky[1])),
+          static_cast<int>(255.999 * std::sqrt(sky[2]))};
+}
+
+TEST_F(ParticleCli, AMetalParticleMirrorsTheSkyWhereALambertianOneScattersIt) {
+  write_text(path("white.xyz"), "0 0 0 1 1 1 1\n");
+  Pixels images[2];
+  const char* materials[2] = {"metal", "lambertian"};
+  for (int k = 0; k < 2; ++k) {
+    const std::string out = path(std::string(materials[k]) + ".png");
+    const auto r = run_sphray(std::string("render -q -m path --spp 64 --material ") + materials[k] +
+                              kCamera + " -s " + path("white.xyz") + " -o " + out);
+    ASSERT_EQ(r.status, 0) << r.out;
+    images[k] = load(out);
+    ASSERT_EQ(images[k].width, kSide);
+  }
+  // Where the normal leans 45 degrees up, a mirror sends the view up into the blue zenith; 45
+  // degrees down, into the white horizon. A Lambertian surface averages the sky over its normal's
+  // hemisphere: paler than the mirror above, darker below.
+  const double s = std::sqrt(0.5);
+  for (const double lean : {s, -s}) {
+    const auto [x, y] = pixel_of(0, lean, s);
+    const std::vector<int> mirror = mirror_bytes(x, y);
+    const int* metal = images[0].at(x, y);
+    const int* lambertian = images[1].at(x, y);
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(metal[i], mirror[i], 3) << "channel " << i << " at " << x << ", " << y;
+    if (lean > 0) {
+      EXPECT_GT(lambertian[0], mirror[0] + 10) << x << ", " << y;
+    } else {
+      EXPECT_LT(lambertian[0], mirror[0] - 10) << x << ", " << y;
+    }
+  }
+}
+
+TEST_F(ParticleCli, BadMaterialsAreRefusedAndOnlyParticleFilesTakeOne) {
+  write_text(path("one.xyz"), "0 0 0 1\n");
+  const std::pair<std::string, std::string> cases[] = {
+      {"plastic", "--material: expected lambertian, metal[:FUZZ] or glass[:IOR], got plastic"},
+      {"lambertian:1",
+       "--material: expected lambertian, metal[:FUZZ] or glass[:IOR], got "
+       "lambertian:1"},
+      {"metal:x", "--material: expected lambertian, metal[:FUZZ] or glass[:IOR], got metal:x"},
+      {"metal:2", "--material: expected \"fuzz\" in [0, 1], got 2"},
+      {"metal:-0.5", "--material: expected \"fuzz\" in [0, 1], got -0.5"},
+      {"glass:0", "--material: expected \"ior\" to be positive, got 0"},
+      {"glass:nan", "--material: expected lambertian, metal[:FUZZ] or glass[:IOR], got glass:nan"},
+  };
+  for (const auto& [material, message] : cases) {
+    const auto r = run_sphray("render -s " + path("one.xyz") + " --material " + material + " -o " +
+                              path("out.png"));
+    EXPECT_EQ(r.status, 2) << material << ": " << r.out;
+    EXPECT_EQ(r.out, "sphray: " + message + " (see sphray --help)\n");
+  }
+  for (const std::string& scene : {std::string("three"), path("one.json")}) {
+    write_text(path("one.json"), R"({"spheres": [{"center": [0, 0, 0], "radius": 1}]})");
+    const auto r = run_sphray("render -s " + scene + " --material metal -o " + path("out.png"));
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_EQ(r.out, "sphray: --material applies to particle files (.xyz, .csv, .sphp), not to " +
+                         scene + "\n");
+  }
+  for (const char* material : {"metal:0.2", "glass", "glass:1.33", "dielectric:2"}) {
+    const auto r = run_sphray("render -q -m path --spp 1 -W 16 -H 9 -s " + path("one.xyz") +
+                              " --material " + material + " -o " + path("ok.png"));
+    EXPECT_EQ(r.status, 0) << material << ": " << r.out;
+  }
 }
 
 struct Refusal {

@@ -35,20 +35,34 @@ struct CameraSpec {
 struct Scene {
   std::string name;
   SphereSoA spheres;
-  std::vector<Vec3> colors;  // one per sphere, each component in [0,1]
-  /// One per sphere for path mode; a sphere without one (a scene built by hand) is Lambertian
-  /// with its colour as albedo (material_of).
+  /// One per sphere, each component in [0,1], or none: every sphere grey (color_of). A particle
+  /// file without colours leaves it empty, which spares 12 bytes a sphere.
+  std::vector<Vec3> colors;
+  /// One per sphere for path mode, or none: every sphere is then default_material with its
+  /// colour as albedo (material_of), as a scene built by hand or a particle file is.
   std::vector<Material> materials;
+  /// The material of a sphere without an entry in materials: its kind, fuzz and ior (the albedo
+  /// is the sphere's colour). Lambertian unless `--material` says otherwise for a particle file.
+  Material default_material;
   Sky sky;  // what lights path mode
   CameraSpec camera;
   int width = 400, height = 225;  // default image size
 };
 
-/// Sphere id's material: scene.materials[id], or Lambertian with its colour (grey without one).
+/// The grey of a sphere without a colour (scene files' default).
+inline constexpr Vec3 kDefaultColor{0.5f, 0.5f, 0.5f};
+
+/// Sphere id's colour: scene.colors[id], or grey without one.
+inline Vec3 color_of(const Scene& scene, std::uint32_t id) {
+  return id < scene.colors.size() ? scene.colors[id] : kDefaultColor;
+}
+
+/// Sphere id's material: scene.materials[id], or the default material (Lambertian unless said
+/// otherwise) with its colour as albedo.
 inline Material material_of(const Scene& scene, std::uint32_t id) {
   if (id < scene.materials.size()) return scene.materials[id];
-  Material m;
-  if (id < scene.colors.size()) m.albedo = scene.colors[id];
+  Material m = scene.default_material;
+  m.albedo = color_of(scene, id);
   return m;
 }
 
@@ -92,12 +106,16 @@ MaterialEntry parse_material(std::string_view json_text, const std::string& sour
 struct SceneOptions {
   /// The radius of every particle of a text file without a radius column (`--radius`).
   std::optional<float> radius;
+  /// Every particle's material (`--material`), its albedo the particle's colour; Lambertian
+  /// without. Only for particle files: load_scene_or_preset refuses it for other scenes.
+  std::optional<Material> material;
 };
 /// A preset if name_or_file names one (or starts with "random:"), a particle file if its
 /// extension is .sphp, .xyz or .csv (load_particle_scene), else a JSON file ("-": standard input).
 Scene load_scene_or_preset(std::string_view name_or_file, const SceneOptions& options = {});
 /// The spheres of a particle file (sphray/particles/particles.hpp), their colours from the file
-/// (grey without), Lambertian, framed by framing(). Throws SceneError with the reader's message,
+/// (none stored without: every sphere grey), options.material (Lambertian without), framed by
+/// framing(). Throws SceneError with the reader's message,
 /// or naming the first particle that is not finite with a positive radius of at most 1e17 (a
 /// .sphp file's floats are not checked by its reader) and its byte offset.
 Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions& options = {});
