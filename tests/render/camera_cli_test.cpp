@@ -13,6 +13,7 @@
 
 #include "command_run.hpp"
 #include "test_files.hpp"
+#include "test_pixels.hpp"
 
 namespace {
 
@@ -32,24 +33,8 @@ class CameraCli : public sphray::test::ScratchDirTest {
   }
 };
 
-struct Pixels {
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgb;
-  const unsigned char* at(int x, int y) const {
-    return &rgb[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
-                     static_cast<std::size_t>(x))];
-  }
-};
-
-Pixels load(const std::string& file) {
-  Pixels p;
-  int channels = 0;
-  stbi_uc* data = stbi_load(file.c_str(), &p.width, &p.height, &channels, 3);
-  if (data == nullptr) return p;
-  p.rgb.assign(data, data + 3 * p.width * p.height);
-  stbi_image_free(data);
-  return p;
-}
+using sphray::test::load_pixels;
+using sphray::test::Pixels;
 
 TEST_F(CameraCli, TheScenesOwnCameraGivenOnTheCommandLineChangesNoByte) {
   const std::pair<const char*, const char*> cases[] = {
@@ -102,9 +87,9 @@ TEST_F(CameraCli, AMovedCameraPutsASphereWhereThePinholeModelSays) {
   const std::string base = "-s " + path("one.xyz") + " -m flat --spp 1 -W 101 -H 101";
   render(base, "framed.png");
   render(base + " --lookfrom 0,0,10 --lookat 0,0,0 --vfov 20", "moved.png");
-  const Pixels before = load(path("framed.png")), after = load(path("moved.png"));
+  const Pixels before = load_pixels(path("framed.png")), after = load_pixels(path("moved.png"));
   ASSERT_EQ(after.width, 101);
-  const auto red = [](const unsigned char* p) { return p[0] == 255 && p[1] == 0 && p[2] == 0; };
+  const auto red = [](const int* p) { return p[0] == 255 && p[1] == 0 && p[2] == 0; };
   EXPECT_TRUE(red(before.at(50, 50)));  // framed: the sphere at the image centre
   EXPECT_FALSE(red(after.at(50, 50)));  // moved: the origin, which the sphere misses
   const auto [x, y] = project(0.5, 0.25, 0, 10, 20, 101, 101);

@@ -14,6 +14,7 @@
 #include "command_run.hpp"
 #include "sphray/particles/particles.hpp"
 #include "test_files.hpp"
+#include "test_pixels.hpp"
 
 namespace {
 
@@ -72,24 +73,8 @@ TEST_F(ParticleCli, AGivenRadiusAndTheFilesColoursAreUsed) {
   stbi_image_free(data);
 }
 
-struct Pixels {
-  int width = 0, height = 0;
-  std::vector<int> rgb;
-  const int* at(int x, int y) const {
-    return &rgb[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
-                     static_cast<std::size_t>(x))];
-  }
-};
-
-Pixels load(const std::string& file) {
-  Pixels p;
-  int channels = 0;
-  stbi_uc* data = stbi_load(file.c_str(), &p.width, &p.height, &channels, 3);
-  if (data == nullptr) return p;
-  p.rgb.assign(data, data + 3 * p.width * p.height);
-  stbi_image_free(data);
-  return p;
-}
+using sphray::test::load_pixels;
+using sphray::test::Pixels;
 
 // The camera the colour and material tests look through: on the +z axis at distance 10, looking
 // at the origin, vfov 20, onto a square image of 101 pixels a side.
@@ -117,7 +102,7 @@ TEST_F(ParticleCli, ShadedAndPathModesShowEachParticlesColourFlatModeItsRed) {
     const auto r = run_sphray(std::string("render -q --spp 16 -m ") + mode + kCamera + " -s " +
                               path("two.xyz") + " -o " + out);
     ASSERT_EQ(r.status, 0) << r.out;
-    const Pixels image = load(out);
+    const Pixels image = load_pixels(out);
     ASSERT_EQ(image.width, kSide);
     for (int k = 0; k < 2; ++k) {
       const int* p = image.at(centres[k].first, centres[k].second);
@@ -190,7 +175,7 @@ TEST_F(ParticleCli, AMetalParticleMirrorsTheSkyWhereALambertianOneScattersIt) {
     const auto r = run_sphray(std::string("render -q -m path --spp 64 --material ") + materials[k] +
                               kCamera + " -s " + path("white.xyz") + " -o " + out);
     ASSERT_EQ(r.status, 0) << r.out;
-    images[k] = load(out);
+    images[k] = load_pixels(out);
     ASSERT_EQ(images[k].width, kSide);
   }
   // Where the normal leans 45 degrees up, a mirror sends the view up into the blue zenith; 45
