@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Writes the kernel fuzzer's seed corpus (corpus/kernel/) in the byte format kernel_fuzzer.cpp
 decodes: a head byte (ray count, misalignment, padded view), a sphere count, the rays, the
-spheres, the padding's radii, then per ray whether it starts on a sphere's surface. Run from tests/fuzz/; the output is committed."""
+spheres, the padding's radii, then per ray whether it starts on a sphere's surface; and the PDB
+fuzzer's (corpus/pdb/): small PDB files. Run from tests/fuzz/; the output is committed."""
 import random
 import struct
 from pathlib import Path
@@ -93,6 +94,38 @@ def main():
         seeds[f"surface-{n}"] = seed(rays, spheres, surface=surface)
     for name, data in seeds.items():
         (out / name).write_bytes(data)
+    pdb_seeds()
+
+
+def pdb_atom(record, serial, name, x, y, z, element):
+    """An ATOM or HETATM record in the PDB v3.3 columns (x y z 31-54, element 77-78)."""
+    return (f"{record:<6}{serial:5d} {name:<4} RES A{serial:4d}    {x:8.3f}{y:8.3f}{z:8.3f}"
+            f"  1.00  0.00          {element:>2}")
+
+
+def pdb_seeds():
+    out = Path("corpus/pdb")
+    out.mkdir(parents=True, exist_ok=True)
+    water = [pdb_atom("ATOM", 1, " O", 0, 0, 0, "O"), pdb_atom("ATOM", 2, " H1", 0.757, 0.586, 0, "H"),
+             pdb_atom("ATOM", 3, " H2", -0.757, 0.586, 0, "")]
+    seeds = {
+        "water": "HEADER    WATER\n" + "\n".join(water) + "\nEND\n",
+        "hetatm_names": "\n".join([pdb_atom("HETATM", 1, "FE", 1, 2, 3, ""),
+                                   pdb_atom("HETATM", 2, "CA", -1, 0, 0, "  "),
+                                   pdb_atom("HETATM", 3, "HG21", 0, 1, 0, ""),
+                                   pdb_atom("HETATM", 4, "1HB", 0, 0, 1, ""),
+                                   pdb_atom("HETATM", 5, "CL1", 2, 2, 2, "cl")]) + "\n",
+        "models": "MODEL        1\r\n" + "\r\n".join(water) + "\r\nENDMDL\r\nMODEL        2\r\n"
+                  + pdb_atom("ATOM", 4, " C", 9, 9, 9, "C") + "\r\nENDMDL\r\n",
+        "short_lines": "ATOM      1  CA  ALA A   1       1.000   2.000   3.000\nATOM      2  N\n",
+        "bad_element": pdb_atom("ATOM", 1, " X", 0, 0, 0, "XX") + "\n",
+        "specials": pdb_atom("ATOM", 1, " C", 0, 0, 0, "C").replace("   0.000", "     nan", 1)
+                    + "\n" + pdb_atom("ATOM", 2, " C", 0, 0, 0, "C").replace("   0.000", "    1e18", 1)
+                    + "\n",
+        "no_atoms": "HEADER    NOTHING\nREMARK   1\nEND\n",
+    }
+    for name, text in seeds.items():
+        (out / name).write_bytes(text.encode("ascii"))
 
 
 if __name__ == "__main__":

@@ -6,7 +6,13 @@
 //   .sphp        the binary particle file of docs/distributed.md (layout below);
 //   .xyz, .csv   text points, one particle per line: x y z [r] [red green blue], separated by
 //                whitespace or (when the first line that is not blank or a comment has a comma)
-//                by commas; an optional header line naming the columns; '#' starts a comment.
+//                by commas; an optional header line naming the columns; '#' starts a comment;
+//   .pdb, .ent   PDB atoms: the ATOM and HETATM records of the first model (up to the first
+//                ENDMDL), in the PDB v3.3 fixed columns (x 31-38, y 39-46, z 47-54, element
+//                77-78, else guessed from the atom name, 13-16); each atom a sphere of its
+//                element's van der Waals radius (Bondi 1964, Mantina et al. 2009 for the
+//                main-group elements Bondi lacks, 2.00 angstroms for the others) and Jmol's CPK
+//                colour. Every other record is ignored; a symbol that is no element is refused.
 //
 // Every reader refuses a bad file with a ParticleError whose what() is one line naming the
 // file, the line (text) or the particle and its byte offset (binary), and the problem.
@@ -123,12 +129,22 @@ Points read_points(const std::filesystem::path& file, const PointOptions& option
 Points parse_points(std::string_view text, const std::string& source,
                     const PointOptions& options = {});
 
+// --- PDB atoms (.pdb, .ent) -------------------------------------------------------------
+
+/// The atoms of a PDB file's first model, read a line at a time (lines of at most
+/// kMaxLineBytes): sphere i is the i-th ATOM or HETATM record, colours always present. Throws
+/// ParticleError "FILE:LINE: expected ..., got ...".
+Points read_pdb(const std::filesystem::path& file);
+/// PDB atoms parsed from text; source names it in messages. Throws ParticleError.
+Points parse_pdb(std::string_view text, const std::string& source);
+
 // --- Any particle file --------------------------------------------------------------------
 
-/// Whether path names a particle file by its extension (.sphp, .xyz, .csv; any case).
+/// Whether path names a particle file by its extension (.sphp, .xyz, .csv, .pdb, .ent; any
+/// case).
 bool is_particle_file(const std::filesystem::path& path);
-/// The particles of a .sphp, .xyz or .csv file, chosen by its extension (no colours from
-/// .sphp). Throws ParticleError.
+/// The particles of a .sphp, .xyz, .csv, .pdb or .ent file, chosen by its extension (no colours
+/// from .sphp; options apply to .xyz and .csv). Throws ParticleError.
 Points read_particle_file(const std::filesystem::path& path, const PointOptions& options = {});
 
 }  // namespace sphray::particles
