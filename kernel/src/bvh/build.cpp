@@ -18,9 +18,11 @@
 namespace sphray::detail {
 namespace {
 
-// Where a leaf's spheres go: prims [begin, begin + count) to the slots from slot on.
+// Where leaf k's spheres go: prims [begin, begin + count) to the slots from k * width on.
+// 8 bytes a leaf, as the list is alive with the output's slots (the build's peak, issue 34);
+// a tree has fewer than 2^31 spheres.
 struct LeafPlace {
-  std::size_t begin, count, slot;
+  std::uint32_t begin, count;
 };
 
 // Writes the built tree's nodes in depth-first pre-order (a parent before its children, which
@@ -33,7 +35,7 @@ class Flattener {
   explicit Flattener(BvhArrays& out) : out_(out), w_(out.width) {}
 
   std::vector<LeafPlace> leaves;
-  std::size_t slots_used = 0;  // a multiple of the width
+  std::size_t slots_used = 0;  // leaves.size() * width
 
   void write(const Builder::Node& node, std::size_t index) {
     const NodeView<float> view(out_.nodes.get(), index, w_);
@@ -46,12 +48,13 @@ class Flattener {
         write(*child->node, next);
         next += child->node->subtree_nodes;
       } else if (child) {
-        const std::size_t count = child->cluster.size();
+        const std::size_t count = child->size();
         ref = ChildRef::leaf(slots_used, count);
-        leaves.push_back({child->cluster.begin, count, slots_used});
+        leaves.push_back(
+            {static_cast<std::uint32_t>(child->begin), static_cast<std::uint32_t>(count)});
         slots_used += w_;
       }
-      write_box(view, k, child ? child->cluster.box : Box{});
+      write_box(view, k, child ? child->box : Box{});
       view.set_ref(k, ref);
     }
   }
@@ -64,7 +67,8 @@ class Flattener {
 Prims make_prims(SphereView v) {
   Prims p(v.count);
   parallel_for(v.count, kBlock, [&](std::size_t i) {
-    p[i] = Prim::make(v.cx[i], v.cy[i], v.cz[i], v.radius[i], static_cast<std::uint32_t>(i));
+    p[i] = Prim::make(v.cx[i], v.cy[i], v.cz[i], v.radius[i]);
+    p.ids[i] = static_cast<std::uint32_t>(i);
   });
   return p;
 }
@@ -94,7 +98,8 @@ void allocate_slots(BvhArrays& out, std::size_t slots) {
   std::fill_n(out.ids.get(), out.slots, kNoHit);
 }
 
-// The spheres and ids of the built tree: each leaf's prims to its slots.
+// The spheres and ids of the built tree: each leaf's prims to its slots, an invalid sphere as
+// centre 0 and radius 0, which the kernel never hits either.
 void write_spheres(BvhArrays& out, const Prims& prims, const std::vector<LeafPlace>& leaves) {
   float* x = out.spheres.get();
   float *y = x + out.slots, *z = y + out.slots, *r = z + out.slots;
@@ -102,12 +107,12 @@ void write_spheres(BvhArrays& out, const Prims& prims, const std::vector<LeafPla
     const LeafPlace& leaf = leaves[k];
     for (std::size_t j = 0; j < leaf.count; ++j) {
       const Prim& p = prims[leaf.begin + j];
-      const std::size_t i = leaf.slot + j;
+      const std::size_t i = k * out.width + j;
       x[i] = p.sphere[0];
       y[i] = p.sphere[1];
       z[i] = p.sphere[2];
-      r[i] = p.sphere[3];
-      out.ids[i] = p.id();
+      r[i] = std::max(p.sphere[3], 0.0f);  // an invalid sphere's -inf (prim.hpp) to radius 0
+      out.ids[i] = prims.ids[leaf.begin + j];
     }
   });
 }
@@ -118,30 +123,39 @@ std::size_t flat_up_to(std::size_t width) {
   return width * std::min(width, kBvhBruteForceLeaves);
 }
 
+// The builder's tree over prims, which it permutes into leaf order. The builder, and with it
+// its scratch arrays (as large as prims), is gone before the output tree is allocated: they
+// were the build's peak memory (issue 34).
+Builder::Node build_nodes(Prims& prims, std::size_t width, std::size_t parallel_min,
+                          ProgressCount& progress, bool flat) {
+  Builder builder(prims, width, parallel_min, progress);
+  const std::size_t n = prims.size;
+  // The root is always a node, even over a single leaf, so traversal starts the same way.
+  if (!flat) return std::move(*builder.build(builder.cluster(0, n), 0));
+  // Few enough spheres that the tree is read as brute force (bvh_data.hpp,
+  // kBvhBruteForceLeaves): full leaves in id order under the root, the batches brute force
+  // reads, rather than the builder's leaves, whose padding would add batches.
+  Builder::Node root;
+  for (std::size_t begin = 0; begin < n; begin += width)
+    root.children.emplace_back(builder.cluster(begin, std::min(n, begin + width)));
+  return root;
+}
+
 BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min,
                      ProgressCount& progress) {
   BvhArrays out;
   out.width = width;
   out.source_count = v.count;
   if (v.count == 0) return out;
+  out.flat = v.count <= flat_up_to(width);
   Prims prims = make_prims(v);
-  Builder builder(prims, width, parallel_min, progress);
-  // The root is always a node, even over a single leaf, so traversal starts the same way.
-  Builder::Node root;
-  if (v.count <= flat_up_to(width)) {
-    // Few enough spheres that the tree is read as brute force (bvh_data.hpp,
-    // kBvhBruteForceLeaves): full leaves in id order under the root, the batches brute force
-    // reads, rather than the builder's leaves, whose padding would add batches.
-    out.flat = true;
-    root.children.resize((v.count + width - 1) / width);
-    for (std::size_t k = 0; k < root.children.size(); ++k)
-      root.children[k].cluster = builder.cluster(k * width, std::min(v.count, (k + 1) * width));
-  } else {
-    root = std::move(*builder.build(builder.cluster(0, v.count), 0));
-  }
-  allocate_nodes(out, root.subtree_nodes);
   Flattener flat(out);
-  flat.write(root, 0);
+  {
+    // The builder's nodes go before the slots, the largest output array, are allocated.
+    const Builder::Node root = build_nodes(prims, width, parallel_min, progress, out.flat);
+    allocate_nodes(out, root.subtree_nodes);
+    flat.write(root, 0);
+  }
   allocate_slots(out, flat.slots_used);
   write_spheres(out, prims, flat.leaves);
   out.leaf_overlap = measure_leaf_overlap(out);

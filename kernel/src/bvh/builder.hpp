@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <numeric>
 #include <utility>
 #include <vector>
 
@@ -46,9 +47,16 @@ class Builder {
   }
 
   struct Node {
+    // A child keeps its range and box, not its centre bounds, which only its own build reads:
+    // the builder's nodes stay alive until the tree is written out (build.cpp).
     struct Child {
-      Cluster cluster;
+      std::size_t begin = 0, end = 0;
+      Box box;
       std::unique_ptr<Node> node;  // null for a leaf
+
+      Child() = default;
+      explicit Child(const Cluster& c) : begin(c.begin), end(c.end), box(c.box) {}
+      std::size_t size() const { return end - begin; }
     };
     std::vector<Child> children;
     std::size_t subtree_nodes = 1;  // this node and every node below it
@@ -73,8 +81,8 @@ class Builder {
 
   // The node over c, whose size exceeds the width.
   std::unique_ptr<Node> build(const Cluster& c, std::size_t depth) {
-    auto node = std::make_unique<Node>();
     std::vector<Cluster> parts{c};
+    parts.reserve(width_);
     while (parts.size() < width_) {
       const int pick = largest_splittable(parts);
       if (pick < 0) break;
@@ -84,10 +92,11 @@ class Builder {
       parts[pick] = left;
       parts.insert(parts.begin() + pick + 1, right);
     }
-    node->children.resize(parts.size());
-    for (std::size_t k = 0; k < parts.size(); ++k)
-      node->children[k].cluster = parts[k];
-    build_children(*node, c.size() >= ProgressCount::kAskFrom, depth + 1);
+    auto node = std::make_unique<Node>();
+    node->children.reserve(parts.size());
+    for (const Cluster& part : parts)
+      node->children.emplace_back(part);
+    build_children(*node, parts, c.size() >= ProgressCount::kAskFrom, depth + 1);
     for (const auto& child : node->children)
       if (child.node) node->subtree_nodes += child.node->subtree_nodes;
     return node;
@@ -96,14 +105,17 @@ class Builder {
  private:
   // counted: whether to count the small children's spheres as placed (the node itself is not
   // small: below it, each sphere is in exactly one small child of a large node).
-  void build_children(Node& node, bool counted, std::size_t depth) {
+  void build_children(Node& node, const std::vector<Cluster>& parts, bool counted,
+                      std::size_t depth) {
     TaskGroup group;
-    for (auto& child : node.children) {
-      const std::size_t size = child.cluster.size();
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      Node::Child& child = node.children[k];
+      const Cluster& part = parts[k];
+      const std::size_t size = part.size();
       if (size > width_ && size >= parallel_min_)
-        group.run([this, &child, depth] { child.node = build(child.cluster, depth); });
+        group.run([this, &child, &part, depth] { child.node = build(part, depth); });
       else if (size > width_)
-        child.node = build(child.cluster, depth);
+        child.node = build(part, depth);
       if (counted && size < ProgressCount::kAskFrom) progress_.placed(size);
     }
     group.wait();
@@ -156,7 +168,7 @@ class Builder {
     for (std::size_t i = c.begin; i < c.end; ++i) {
       const Lanes centre = p_[i].centre();
       const bool left = goes_left(centre);
-      scratch_[left ? l : r - 1] = p_[i];
+      p_.copy(i, scratch_, left ? l : r - 1);
       l += left;
       r -= !left;
       const xsimd::batch_bool<float, xsimd::default_arch> to_left(left);
@@ -167,8 +179,14 @@ class Builder {
     }
     left_centroids.grow(left_lo, left_hi);
     right_centroids.grow(right_lo, right_hi);
-    std::copy(&scratch_[c.begin], &scratch_[c.end], &p_[c.begin]);
+    copy_back(c.begin, c.end);
     return l;
+  }
+
+  // The scratch array's [begin, end) back to the prims.
+  void copy_back(std::size_t begin, std::size_t end) {
+    std::copy(&scratch_[begin], &scratch_[end], &p_[begin]);
+    std::copy(&scratch_.ids[begin], &scratch_.ids[end], &p_.ids[begin]);
   }
 
   // A stable partition over fixed blocks: note each prim's side and count each block's, then
@@ -212,11 +230,9 @@ class Builder {
     parallel_for(blocks, 1, [&](std::size_t b) {
       std::size_t l = c.begin + left_at[b], r = c.begin + right_at[b];
       for (std::size_t i = block_begin(b); i < block_end(b); ++i)
-        scratch_[left_side_[i] ? l++ : r++] = p_[i];
+        p_.copy(i, scratch_, left_side_[i] ? l++ : r++);
     });
-    parallel_for(blocks, 1, [&](std::size_t b) {
-      std::copy(&scratch_[block_begin(b)], &scratch_[block_end(b)], &p_[block_begin(b)]);
-    });
+    parallel_for(blocks, 1, [&](std::size_t b) { copy_back(block_begin(b), block_end(b)); });
     return c.begin + lefts;
   }
 
@@ -245,10 +261,11 @@ class Builder {
           const Prim& p = p_[i];
           alignas(16) std::int32_t index[4];
           binning.bins(p.centre()).store_aligned(index);
+          const auto [lo, hi] = p.bounds();
           for (int k = 0; k < 3; ++k) {
             if (scale[k] == 0.0f) continue;
             Bin& bin = b[k][static_cast<std::size_t>(index[k])];
-            p.grow(bin.box);
+            bin.box.grow(lo, hi);
             ++bin.count;
           }
         },
@@ -284,7 +301,10 @@ class Builder {
   }
 
   // Splits at the median centre along the widest centroid axis, rounded to whole batches on
-  // the left; ties on the centre go by id, so the order is a function of the set alone.
+  // the left; ties on the centre go by id, so the order is a function of the set alone. What
+  // nth_element orders is the range's positions (in the scratch ids), not the prims and their
+  // ids, two arrays; both are then gathered in that order, which is the order nth_element
+  // would have left the prims in.
   std::size_t median_split(const Cluster& c) {
     int axis = 0;
     float widest = -1.0f;
@@ -298,11 +318,18 @@ class Builder {
     const std::size_t n = c.size();
     std::size_t left = (n / 2 + width_ - 1) / width_ * width_;
     if (left >= n) left = n / 2;
-    Prim* first = &p_[c.begin];
-    std::nth_element(first, first + left, first + n, [axis](const Prim& a, const Prim& b) {
-      const float ca = a.centre().get(axis), cb = b.centre().get(axis);
-      return ca < cb || (ca == cb && a.id() < b.id());
+    const Prim* prims = &p_[c.begin];
+    const std::uint32_t* ids = &p_.ids[c.begin];
+    std::uint32_t* order = &scratch_.ids[c.begin];
+    std::iota(order, order + n, 0u);
+    std::nth_element(order, order + left, order + n, [&](std::uint32_t a, std::uint32_t b) {
+      const float ca = prims[a].sphere[axis], cb = prims[b].sphere[axis];
+      return ca < cb || (ca == cb && ids[a] < ids[b]);
     });
+    // Element j's position is read before its id overwrites it.
+    for (std::size_t j = 0; j < n; ++j)
+      p_.copy(c.begin + order[j], scratch_, c.begin + j);
+    copy_back(c.begin, c.end);
     return c.begin + left;
   }
 

@@ -3,12 +3,12 @@
 // the same for every instruction set.
 #pragma once
 
-#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <type_traits>
+#include <utility>
 
 #include <xsimd/xsimd.hpp>
 
@@ -63,54 +63,64 @@ struct alignas(16) Box {
 
 // Half the side of a sphere's box on one axis: the radius, widened by 2^-20 of the
 // coordinate's magnitude. That is more than the rounding of c -+ e, and enough to hold a grazing
-// hit that the kernel's own rounding puts just outside the exact sphere.
-inline float half_extent(float c, float r) {
-  return r + (std::fabs(c) + r) * 0x1p-20f;
+// hit that the kernel's own rounding puts just outside the exact sphere. Per lane: r holds the
+// radius in every lane.
+inline Lanes half_extent(const Lanes& c, const Lanes& r) {
+  return r + (xsimd::abs(c) + r) * Lanes(0x1p-20f);
 }
 
-// One sphere as the builder sees it, 32 bytes: the centre and radius, the box's half extents
-// and the id. The build partitions an array of these, so every pass over a range reads memory
-// in order, and the leaves' spheres are copied out of it in order at the end. An invalid
-// sphere (never hit) has centre 0, radius 0 and half extents -inf: its box c -+ e is empty, so
-// it never widens a parent, and its centre still compares with the others.
+// One sphere as the builder sees it, 16 bytes: its centre and radius, one aligned load. The
+// build moves these records and nothing else but their ids (Prims), so every pass over a range
+// reads memory in order, and the leaves' spheres are copied out of them in order at the end.
+// The box's half extents are not stored but computed when needed (half_extent()): four SIMD
+// operations cost less than 16 more bytes a sphere to hold and move, in a build bound by memory
+// whose peak is the library's (issue 34: 10^8 spheres on 24 GB). An invalid sphere (never hit) has
+// centre 0 and radius -inf: its half extents come out -inf, so its box c -+ e is empty and never
+// widens a parent, and its centre still compares with the others.
 struct alignas(16) Prim {
   float sphere[4];  // centre x, y, z; radius
-  float extent[4];  // half extents x, y, z; the id's bits
 
-  static Prim make(float x, float y, float z, float r, std::uint32_t id) {
-    Prim p{{0.0f, 0.0f, 0.0f, 0.0f}, {-kInf, -kInf, -kInf, 0.0f}};
-    if (valid_sphere({x, y, z}, r))
-      p = {{x, y, z, r}, {half_extent(x, r), half_extent(y, r), half_extent(z, r), 0.0f}};
-    p.extent[3] = std::bit_cast<float>(id);
-    return p;
+  static Prim make(float x, float y, float z, float r) {
+    if (!valid_sphere({x, y, z}, r)) return {{0.0f, 0.0f, 0.0f, -kInf}};
+    return {{x, y, z, r}};
   }
-  std::uint32_t id() const { return std::bit_cast<std::uint32_t>(extent[3]); }
   // The centre in lanes 0-2 (lane 3: the radius, which binning multiplies by 0).
   Lanes centre() const { return Lanes::load_aligned(sphere); }
-  // Grows box by the sphere's box. The id's lane is zeroed first: as a float it is mostly
-  // subnormal, which some processors handle in slow microcode.
+  // The sphere's box, lo and hi, in lanes 0-2 (lane 3 is not used).
+  std::pair<Lanes, Lanes> bounds() const {
+    const Lanes c = centre(), r(sphere[3]);
+    const Lanes e = half_extent(c, r);
+    return {c - e, c + e};
+  }
+  // Grows box by the sphere's box.
   void grow(Box& box) const {
-    const xsimd::batch_bool<float, xsimd::default_arch> xyz{true, true, true, false};
-    const Lanes c = centre();
-    const Lanes e = xsimd::select(xyz, Lanes::load_aligned(extent), Lanes(0.0f));
-    box.grow(c - e, c + e);
+    const auto [lo, hi] = bounds();
+    box.grow(lo, hi);
   }
 };
-static_assert(std::is_trivially_default_constructible_v<Prim> && sizeof(Prim) == 32);
+static_assert(std::is_trivially_default_constructible_v<Prim> && sizeof(Prim) == 16);
 
-// A default-initialised array of prims: the builder writes every element before reading it.
+// The builder's spheres and their ids (indices in the view), permuted together. The ids are an
+// array of their own so that a prim stays 16 bytes, one aligned load. Default-initialised: the
+// builder writes every element before reading it.
 struct Prims {
-  explicit Prims(std::size_t n) : data(new Prim[n]), size(n) {}
+  explicit Prims(std::size_t n) : data(new Prim[n]), ids(new std::uint32_t[n]), size(n) {}
   Prim& operator[](std::size_t i) { return data[i]; }
   const Prim& operator[](std::size_t i) const { return data[i]; }
+  // Element from of this to element at of to.
+  void copy(std::size_t from, Prims& to, std::size_t at) const {
+    to.data[at] = data[from];
+    to.ids[at] = ids[from];
+  }
   std::unique_ptr<Prim[]> data;
+  std::unique_ptr<std::uint32_t[]> ids;
   std::size_t size;
 };
 
 // The box refit gives a sphere: the same arithmetic as the build's.
 inline Box sphere_box(float x, float y, float z, float r) {
   Box b;
-  Prim::make(x, y, z, r, 0).grow(b);
+  Prim::make(x, y, z, r).grow(b);
   return b;
 }
 
