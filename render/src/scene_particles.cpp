@@ -9,7 +9,25 @@
 
 namespace sphray::render {
 
-Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions& options) {
+namespace {
+
+// The text reader checks these; a .sphp file's floats arrive as written.
+void check_particle(const std::filesystem::path& file, std::size_t i, Vec3 c, float r) {
+  if (!isfinite(c) || !(r > 0.0f && r <= 1e17f) || std::abs(c.x) > 1e17f || std::abs(c.y) > 1e17f ||
+      std::abs(c.z) > 1e17f) {
+    throw SceneError(file.string() + ": particle " + std::to_string(i) + " (byte offset " +
+                     std::to_string(particles::kSphpHeaderBytes + particles::kSphpRecordBytes * i) +
+                     "): expected a centre of at most 1e17 in magnitude and a radius in (0, "
+                     "1e17], got (" +
+                     std::to_string(c.x) + ", " + std::to_string(c.y) + ", " + std::to_string(c.z) +
+                     ") r " + std::to_string(r));
+  }
+}
+
+}  // namespace
+
+ParticleSpheres load_particle_spheres(const std::filesystem::path& file,
+                                      const SceneOptions& options) {
   particles::Points points;
   try {
     points = particles::read_particle_file(file, {options.radius});
@@ -18,6 +36,14 @@ Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions&
   }
   if (points.spheres.size() == 0)  // only a .sphp file may be empty; the text reader refuses
     throw SceneError(file.string() + ": expected particles, the file has none");
+  const SphereView v = points.spheres.view();
+  for (std::size_t i = 0; i < v.count; ++i)
+    check_particle(file, i, {v.cx[i], v.cy[i], v.cz[i]}, v.radius[i]);
+  return {std::move(points.spheres), std::move(points.colors)};
+}
+
+Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions& options) {
+  ParticleSpheres points = load_particle_spheres(file, options);
   Scene scene;
   scene.name = file.filename().string();
   const SphereView v = points.spheres.view();
@@ -25,17 +51,6 @@ Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions&
   for (std::size_t i = 0; i < v.count; ++i) {
     const Vec3 c{v.cx[i], v.cy[i], v.cz[i]};
     const float r = v.radius[i];
-    // The text reader checks these; a .sphp file's floats arrive as written.
-    if (!isfinite(c) || !(r > 0.0f && r <= 1e17f) || std::abs(c.x) > 1e17f ||
-        std::abs(c.y) > 1e17f || std::abs(c.z) > 1e17f) {
-      throw SceneError(
-          file.string() + ": particle " + std::to_string(i) + " (byte offset " +
-          std::to_string(particles::kSphpHeaderBytes + particles::kSphpRecordBytes * i) +
-          "): expected a centre of at most 1e17 in magnitude and a radius in (0, "
-          "1e17], got (" +
-          std::to_string(c.x) + ", " + std::to_string(c.y) + ", " + std::to_string(c.z) + ") r " +
-          std::to_string(r));
-    }
     lo = {std::min(lo.x, c.x - r), std::min(lo.y, c.y - r), std::min(lo.z, c.z - r)};
     hi = {std::max(hi.x, c.x + r), std::max(hi.y, c.y + r), std::max(hi.z, c.z + r)};
   }

@@ -1,6 +1,6 @@
-// The sphray command: render, bench, scenes, info. A thin shell over sphray::render; every failure
-// is one line on stderr and an exit status: 2 for bad usage or input (refused before any work), 1
-// for a failure during the run (I/O, memory). No exception leaves main.
+// The sphray command: render, bench, convert, scenes, info. A thin shell over sphray::render; every
+// failure is one line on stderr and an exit status: 2 for bad usage or input (refused before any
+// work), 1 for a failure during the run (I/O, memory). No exception leaves main.
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "bench_command.hpp"
+#include "convert_command.hpp"
 #include "progress_report.hpp"
 #include "render_args.hpp"
 #include "scene_queries.hpp"
@@ -310,6 +311,11 @@ int run(int argc, char** argv) {
       "Embree's, where built with it) on a scene, each checked against the scalar "
       "reference first");
   add_bench_options(*bench, bench_args);
+  sphray::render::convert::ConvertArgs convert_args;
+  CLI::App* convert = app.add_subcommand(
+      "convert",
+      "Write the spheres of a scene or particle file as a particle file (.sphp, .xyz, .csv)");
+  add_convert_options(*convert, convert_args);
   CLI::App* scenes = app.add_subcommand("scenes", "List the preset scenes");
   CLI::App* info = app.add_subcommand("info", "Print the version and the instruction set in use");
   try {
@@ -324,6 +330,7 @@ int run(int argc, char** argv) {
   if (*scenes) return run_scenes();
   if (*info) return run_info();
   if (*render) return run_render(args);
+  if (*convert) return sphray::render::convert::run_convert(convert_args);
   if (*bench) {
     bench_args.threads = std::min(bench_args.threads, worker_threads(bench_args.threads));
     return sphray::render::bench::run_bench(bench_args);

@@ -147,4 +147,27 @@ bool is_particle_file(const std::filesystem::path& path);
 /// from .sphp; options apply to .xyz and .csv). Throws ParticleError.
 Points read_particle_file(const std::filesystem::path& path, const PointOptions& options = {});
 
+// --- Writing particle files -----------------------------------------------------------------
+
+/// Text points of spheres, given to sink in pieces of at most 1 MiB: a header line naming the
+/// columns (x y z radius, then red green blue when colors is not empty), then one line per
+/// sphere, its fields separated by separator (' ' for .xyz, ',' for .csv). Every float is
+/// written in the shortest text that reads back to the same bits, so read_points gives the
+/// same spheres and colours, bit for bit. colors is empty or one per sphere, in [0, 1]. Throws
+/// ParticleError for 2^32 - 1 spheres or more and std::invalid_argument for a colors of another
+/// size (both before any byte); what sink throws passes through.
+void write_points(const ByteSink& sink, SphereView spheres, std::span<const Vec3> colors,
+                  char separator);
+
+/// Throws ParticleError "PATH: expected an output particle file ending in ..." unless
+/// write_particle_file writes the format path's extension names (.sphp, .xyz, .csv; any case).
+void check_particle_output(const std::filesystem::path& path);
+
+/// The particle file of spheres in the format path's extension names: .sphp (write_sphp, no
+/// colours), .xyz or .csv (write_points, colours when given). path only chooses the format and
+/// names the file in messages; the bytes go to sink. Throws as check_particle_output (before any
+/// byte) and as the writers do.
+void write_particle_file(const ByteSink& sink, const std::filesystem::path& path,
+                         SphereView spheres, std::span<const Vec3> colors = {});
+
 }  // namespace sphray::particles

@@ -113,6 +113,15 @@ struct SceneOptions {
 /// A preset if name_or_file names one (or starts with "random:"), a particle file if its
 /// extension is .sphp, .xyz or .csv (load_particle_scene), else a JSON file ("-": standard input).
 Scene load_scene_or_preset(std::string_view name_or_file, const SceneOptions& options = {});
+/// The spheres of a particle file and its colours (empty when the file has none).
+struct ParticleSpheres {
+  SphereSoA spheres;
+  std::vector<Vec3> colors;
+};
+/// The spheres of a particle file (sphray/particles/particles.hpp), refused as
+/// load_particle_scene refuses them. Throws SceneError.
+ParticleSpheres load_particle_spheres(const std::filesystem::path& file,
+                                      const SceneOptions& options = {});
 /// The spheres of a particle file (sphray/particles/particles.hpp), their colours from the file
 /// (none stored without: every sphere grey), options.material (Lambertian without), framed by
 /// framing(). Throws SceneError with the reader's message, or naming the first particle that is
