@@ -10,7 +10,7 @@
 #            -DLIBDIR=<lib> -DCC=<C compiler> -DEXAMPLE=<docs/examples/c/render_normals.c>
 #            -DEXTRA_FLAGS=<the build's compiler and linker flags>
 #            -DHEADER_DIR=<kernel/include/sphray> -DNEED_TOOLS=<ON if the command is built>
-#            -DSCENE_DIR=<render/scenes>
+#            -DSCENE_DIR=<render/scenes> -DPARTICLES=<ON if libsphray_particles is built>
 cmake_policy(SET CMP0054 NEW)  # "quoted" strings in if() are strings
 include(${CMAKE_CURRENT_LIST_DIR}/script_steps.cmake)
 fresh_work_dir()
@@ -20,6 +20,11 @@ message("${output}")
 set(lib usr/${LIBDIR})
 # Each package, and the files it must hold (its directories aside, nothing more).
 set(files_libsphray0 ./${lib}/libsphray.so.0 ./${lib}/libsphray.so.${VERSION})
+# The C particle loader, where the build has the particle readers (PARTICLES=ON).
+if(PARTICLES)
+  list(APPEND files_libsphray0 ./${lib}/libsphray_particles.so.0
+       ./${lib}/libsphray_particles.so.${VERSION})
+endif()
 # libsphray-dev: every public header of the source tree, the generated version.h and
 # version.hpp, the rest.
 file(GLOB headers RELATIVE ${HEADER_DIR} ${HEADER_DIR}/*.h ${HEADER_DIR}/*.hpp)
@@ -28,6 +33,10 @@ set(files_libsphray-dev ${headers} ./usr/include/sphray/version.h ./usr/include/
     ./${lib}/libsphray.so ./${lib}/libsphray.a ./${lib}/pkgconfig/sphray.pc
     ./${lib}/cmake/sphray/sphrayConfig.cmake ./${lib}/cmake/sphray/sphrayConfigVersion.cmake
     ./${lib}/cmake/sphray/sphrayTargets.cmake ./${lib}/cmake/sphray/sphrayTargets-CONFIG.cmake)
+if(PARTICLES)
+  list(APPEND files_libsphray-dev ./usr/include/sphray/sphray_particles.h
+       ./${lib}/libsphray_particles.so ./${lib}/pkgconfig/sphray_particles.pc)
+endif()
 # sphray: the command and the example scenes.
 file(GLOB scenes RELATIVE ${SCENE_DIR} ${SCENE_DIR}/*.json)
 list(TRANSFORM scenes PREPEND ./usr/share/sphray/scenes/)
