@@ -61,6 +61,13 @@ class Rays(NamedTuple):
     origins: npt.NDArray[np.float32]
     directions: npt.NDArray[np.float32]
 
+class Particles(NamedTuple):
+    """load(), the particles of a file."""
+
+    centers: npt.NDArray[np.float32]
+    radii: npt.NDArray[np.float32]
+    colors: Optional[npt.NDArray[np.float32]]
+
 class Scene:
     """Spheres to trace rays against: Scene(centers (N, 3), radii (N,), accel="auto")."""
 
@@ -158,6 +165,10 @@ class Scene:
     @property
     def radii(self) -> npt.NDArray[np.float32]:
         """A read-only view of the (N,) array the scene reads: yours if it was not copied."""
+
+def load(path: Union[str, bytes, "PathLike[str]"], radius: Optional[float] = None) -> Particles:
+    """Particles(centers (N, 3), radii (N,), colors (N, 3) or None) of a .sphp, .xyz or .csv
+    file; a .sphp file's arrays are views of a numpy.memmap of it."""
 
 def pinhole_rays(
     eye: _ArrayLike,

@@ -13,6 +13,7 @@
 
 #include "camera.hpp"
 #include "interruption.hpp"
+#include "particles_load.hpp"
 #include "results.hpp"
 #include "scene.hpp"
 #include "sphray/sphray.hpp"
@@ -244,6 +245,25 @@ all cores; time_limit: path mode, seconds after which no sample is started (0: n
 same image as `sphray render` with the same options, and the same defaults. Raises ValueError
 for an unknown scene or mode or a value out of range; Ctrl-C stops it with KeyboardInterrupt.)doc";
 
+constexpr const char* kLoadDoc = R"doc(load(path, radius=None)
+--
+
+The particles of a particle file: Particles(centers, radii, colors), a named tuple that
+sphray.Scene(p.centers, p.radii) takes as it is.
+
+path: a .sphp, .xyz or .csv file (docs/scenes.md, "Particle files"), its format chosen by its
+extension. radius: the radius of every particle of a text file without a radius column
+(ignored for a file that has one, and for .sphp). centers float32 (N, 3), radii float32 (N,),
+colors float32 (N, 3) in [0, 1] or None when the file has no colour columns (.sphp never has).
+
+A .sphp file is not read but mapped: centers and radii are read-only views of one
+numpy.memmap of its records (centers = m[:, :3], radii = m[:, 3]), after its header (magic,
+version, count) and its exact size are checked. The views are strided; Scene copies them once
+into its own layout. A .sphp file truncated or rewritten while it is mapped can kill the
+process with SIGBUS when the pages are read; copy the arrays (np.array(p.centers)) to let go
+of the file. A text file is read into fresh arrays. Raises ValueError with the reader's
+one-line message, "FILE:LINE: expected ...", for a file that cannot be read as particles.)doc";
+
 // obj as JSON text, for the renderer's scene parser; numpy values go through their tolist().
 std::string as_json(const py::handle& obj) {
   const py::object tolist = py::module_::import("operator").attr("methodcaller")("tolist");
@@ -407,6 +427,8 @@ PYBIND11_MODULE(sphray, m) {
       },
       py::name("init"), py::is_method(scene_class), py::doc(kInitDoc));
 
+  m.def("load", &sphray::python::load_particles, py::arg("path"), py::arg("radius") = py::none(),
+        kLoadDoc);
   m.def("pinhole_rays", &sphray::python::pinhole_rays, py::arg("eye"), py::arg("target"),
         py::arg("up"), py::arg("vfov_deg"), py::arg("width"), py::arg("height"), kPinholeDoc);
 

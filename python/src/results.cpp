@@ -57,6 +57,11 @@ const std::array<ResultType, static_cast<std::size_t>(Result::count)> kResultTyp
      "pinhole_rays(), one camera ray through each pixel.",
      {{"origins", "float32 (height, width, 3): the rays' origins"},
       {"directions", "float32 (height, width, 3): their unit directions"}}},
+    {"Particles",
+     "load(), the particles of a file.",
+     {{"centers", "float32 (N, 3): the centres (a view of the file's map for .sphp)"},
+      {"radii", "float32 (N,): the radii (a view of the file's map for .sphp)"},
+      {"colors", "float32 (N, 3) in [0, 1], or None when the file has no colours"}}},
 }};
 
 // The classes, made by add_result_types. Kept (never released) for the life of the process,

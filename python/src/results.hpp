@@ -25,6 +25,7 @@ enum class Result : std::size_t {
   nearest,
   overlaps,
   rays,
+  particles,
   count
 };
 

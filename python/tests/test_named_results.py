@@ -87,8 +87,15 @@ SAMPLES = {
     "ids": np.uint32([0, sphray.NO_HIT]), "new_directions": RAYS[1],
     "points": RAYS[0], "centre": np.zeros(3), "radius": 1.0, "centers": np.zeros((3, 3)),
     "radii": np.ones(3), "eye": [0, 0, 0], "target": [0, 0, -1], "up": [0, 1, 0],
-    "vfov_deg": 40.0, "width": 4, "height": 3,
+    "vfov_deg": 40.0, "width": 4, "height": 3, "path": None,  # load(): set by the fixture below
 }
+
+
+@pytest.fixture(autouse=True)
+def particle_file(tmp_path):
+    """A particle file for load()'s path."""
+    SAMPLES["path"] = tmp_path / "two.xyz"
+    SAMPLES["path"].write_text("0 0 -1 0.5\n1 0 -2 0.25\n")
 
 
 def callables():
