@@ -104,11 +104,11 @@ elseif(CASE STREQUAL "disagree.parse")
   run_mpmd("render -s single -W 8 -H 8 -o out.png" "render -s single -W 0 -H 8 -o out.png")
   expect(2 "rank 1: --width: Value 0 not in range")
 elseif(CASE MATCHES "^bench_out_of_memory\\.np([0-9]+)$")
-  # Reading 2,000,000 particles fits in 300 MB of address space, building their trees does not.
+  # Reading 4,000,000 particles fits in 300 MB of address space, building their trees does not.
   # Was: std::bad_alloc from every rank and an MPI_ABORT banner.
   set(ranks ${CMAKE_MATCH_1})
-  make_particles(big.sphp 2000000)
-  math(EXPR share "2000000 / ${ranks}")
+  make_particles(big.sphp 4000000)
+  math(EXPR share "4000000 / ${ranks}")
   run(prlimit --as=300000000 ${MPIEXEC} ${MPIEXEC_FLAGS} -n ${ranks} ${SPHRAY_MPI} bench big.sphp
       --rays 1000)
   file(REMOVE ${WORK_DIR}/big.sphp)

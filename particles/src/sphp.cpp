@@ -7,9 +7,11 @@
 #include <array>
 #include <bit>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 
 #include "sphray/particles/particles.hpp"
+#include "text_lines.hpp"
 
 namespace sphray::particles {
 namespace {
@@ -36,6 +38,24 @@ void store_le(unsigned char* bytes, std::uint64_t v, int n) {
 
 float load_float(const unsigned char* bytes) {
   return std::bit_cast<float>(static_cast<std::uint32_t>(load_le(bytes, 4)));
+}
+
+// The rule every reader applies (the text readers field by field): a centre of at most 1e17 in
+// magnitude and a radius in (0, 1e17], so that squares and the kernel's products stay finite.
+bool usable(float x, float y, float z, float r) {
+  constexpr float kMax = detail::kMaxMagnitude;
+  return std::abs(x) <= kMax && std::abs(y) <= kMax && std::abs(z) <= kMax && r > 0.0f &&
+         r <= kMax;  // NaN fails every comparison
+}
+
+[[noreturn]] void unusable(const std::filesystem::path& file, std::uint64_t i, float x, float y,
+                           float z, float r) {
+  using detail::shortest;
+  fail(file, "particle " + std::to_string(i) + " (byte offset " +
+                 std::to_string(kSphpHeaderBytes + kSphpRecordBytes * i) +
+                 "): expected a centre of at most 1e17 in magnitude and a radius in (0, 1e17], "
+                 "got (" +
+                 shortest(x) + ", " + shortest(y) + ", " + shortest(z) + ") r " + shortest(r));
 }
 
 }  // namespace
@@ -108,8 +128,10 @@ void SphpFile::read(std::uint64_t first, std::uint64_t end, SphereSoA& spheres,
     read_bytes(chunk.data(), n * kSphpRecordBytes, kSphpHeaderBytes + i * kSphpRecordBytes);
     for (std::size_t k = 0; k < n; ++k, ++i) {
       const unsigned char* record = &chunk[k * kSphpRecordBytes];
-      spheres.add({load_float(record), load_float(record + 4), load_float(record + 8)},
-                  load_float(record + 12));
+      const float x = load_float(record), y = load_float(record + 4), z = load_float(record + 8),
+                  r = load_float(record + 12);
+      if (!usable(x, y, z, r)) unusable(path_, i, x, y, z, r);
+      spheres.add({x, y, z}, r);
       if (ids != nullptr) ids->push_back(static_cast<std::uint32_t>(i));
     }
   }

@@ -22,15 +22,6 @@ void report(const std::string& message) {
   std::fprintf(stderr, "sphray: %s\n", message.c_str());
 }
 
-// The spheres and the colours to write: a particle file's own colours only when it has them
-// (the grey a render gives the others is not the file's), a scene's always.
-ParticleSpheres load_input(const ConvertArgs& args) {
-  if (particles::is_particle_file(args.input))
-    return load_particle_spheres(args.input, {args.radius});
-  Scene scene = load_scene_or_preset(args.input, {args.radius});
-  return {std::move(scene.spheres), std::move(scene.colors)};
-}
-
 }  // namespace
 
 void add_convert_options(CLI::App& convert, ConvertArgs& args) {
@@ -59,7 +50,8 @@ int run_convert(const ConvertArgs& args) {
     detail::AtomicOutput output(args.output, args.force);
     progress::Reporter reporter(!args.quiet, ::isatty(STDERR_FILENO) == 1);
     reporter.phase("reading " + args.input);
-    const ParticleSpheres input = load_input(args);
+    // A particle file's colours only when it has them: an empty Scene::colors is grey.
+    const Scene input = load_scene_or_preset(args.input, {args.radius, {}});
     reporter.phase("writing " + args.output);
     std::uint64_t bytes = 0;
     particles::write_particle_file(

@@ -1,6 +1,7 @@
-// Particle files as scenes: the readers of sphray::particles, the colours they give (none stored
-// without: an empty Scene::colors is grey everywhere, and 100M spheres would spend 1.2 GB on one
-// grey), the material asked for, and the camera framed on the particles' box as random:N's is.
+// Particle files as scenes: the readers of sphray::particles (which check every particle), the
+// colours they give (none stored without: an empty Scene::colors is grey everywhere, and 100M
+// spheres would spend 1.2 GB on one grey), the material asked for, and the camera framed on the
+// particles' box as random:N's is.
 #include <algorithm>
 #include <cmath>
 
@@ -9,41 +10,15 @@
 
 namespace sphray::render {
 
-namespace {
-
-// The text reader checks these; a .sphp file's floats arrive as written.
-void check_particle(const std::filesystem::path& file, std::size_t i, Vec3 c, float r) {
-  if (!isfinite(c) || !(r > 0.0f && r <= 1e17f) || std::abs(c.x) > 1e17f || std::abs(c.y) > 1e17f ||
-      std::abs(c.z) > 1e17f) {
-    throw SceneError(file.string() + ": particle " + std::to_string(i) + " (byte offset " +
-                     std::to_string(particles::kSphpHeaderBytes + particles::kSphpRecordBytes * i) +
-                     "): expected a centre of at most 1e17 in magnitude and a radius in (0, "
-                     "1e17], got (" +
-                     std::to_string(c.x) + ", " + std::to_string(c.y) + ", " + std::to_string(c.z) +
-                     ") r " + std::to_string(r));
-  }
-}
-
-}  // namespace
-
-ParticleSpheres load_particle_spheres(const std::filesystem::path& file,
-                                      const SceneOptions& options) {
+Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions& options) {
   particles::Points points;
   try {
     points = particles::read_particle_file(file, {options.radius});
   } catch (const particles::ParticleError& e) {
     throw SceneError(e.what());
   }
-  if (points.spheres.size() == 0)  // only a .sphp file may be empty; the text reader refuses
+  if (points.spheres.size() == 0)  // only a .sphp file may be empty; the text readers refuse
     throw SceneError(file.string() + ": expected particles, the file has none");
-  const SphereView v = points.spheres.view();
-  for (std::size_t i = 0; i < v.count; ++i)
-    check_particle(file, i, {v.cx[i], v.cy[i], v.cz[i]}, v.radius[i]);
-  return {std::move(points.spheres), std::move(points.colors)};
-}
-
-Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions& options) {
-  ParticleSpheres points = load_particle_spheres(file, options);
   Scene scene;
   scene.name = file.filename().string();
   const SphereView v = points.spheres.view();

@@ -152,11 +152,15 @@ double peak_resident_bytes() {
 
 void print_phases(const RenderStats& s, const Phases& p, double total) {
   const double peak = peak_resident_bytes();
+  // Per sphere only where the spheres, not the program and the image, make most of the memory.
+  char per_sphere[48] = "";
+  if (p.spheres >= 10000)
+    std::snprintf(per_sphere, sizeof per_sphere, " (%.1f bytes per sphere)",
+                  peak / static_cast<double>(p.spheres));
   std::printf(
       "phases: scene %.3f s, tree %.3f s, render %.3f s, write %.3f s; first image in %.3f s; "
-      "peak memory %.1f MB (%.1f bytes per sphere)\n",
-      p.scene, s.build_seconds, s.seconds, p.write, total, peak / 1e6,
-      p.spheres > 0 ? peak / static_cast<double>(p.spheres) : 0.0);
+      "peak memory %.1f MB%s\n",
+      p.scene, s.build_seconds, s.seconds, p.write, total, peak / 1e6, per_sphere);
 }
 
 int run_render(const RenderArgs& args) {

@@ -23,10 +23,12 @@ from pathlib import Path
 
 SKIP = re.compile(r"<!-- not run by the docs check: (.+?) -->")
 CHECK_OUTPUT = "<!-- output checked by the docs check -->"
-# What differs from run to run in a command's output: times, rates, shares.
+# What differs from run to run in a command's output: times, rates, shares, peak memory.
 VARYING = [(re.compile(r"\b\d+(\.\d+)? ?[kMG]?rays/s"), "RATE"),
            (re.compile(r"\b\d+(\.\d+)? s\b"), "TIME s"),
-           (re.compile(r"\b\d+(\.\d+)?%"), "SHARE%")]
+           (re.compile(r"\b\d+(\.\d+)?%"), "SHARE%"),
+           (re.compile(r"\b\d+(\.\d+)? MB\b"), "MEMORY MB"),
+           (re.compile(r"\b\d+(\.\d+)? bytes per sphere\b"), "MEMORY bytes per sphere")]
 
 
 def blocks(page):

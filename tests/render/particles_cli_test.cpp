@@ -251,7 +251,7 @@ TEST_F(ParticleCli, BadFilesAreRefusedAndTheOutputIsUntouched) {
            std::string("\0\0\0\0\0\0\0\0\0\0\xc0\x7f\0\0\x80\x3f", 16),
        "",
        ": particle 0 (byte offset 32): expected a centre of at most 1e17 in magnitude and a "
-       "radius in (0, 1e17], got (0.000000, 0.000000, nan) r 1.000000"},
+       "radius in (0, 1e17], got (0, 0, nan) r 1"},
   };
   for (const Refusal& refusal : refusals) {
     const std::string output = path("out.png");

@@ -47,8 +47,9 @@ typedef struct sphray_particle_arrays {
 
 /* Reads the particle file at path, its format chosen by its extension (.sphp, .xyz, .csv; any
  * case), into a new handle. radius > 0 is the radius of every particle of a text file without
- * a radius column; radius <= 0 gives none (such a file is then refused). A .sphp file's floats
- * arrive as written, unchecked. Errors: NULL pointer (path or out), particle file, too large,
+ * a radius column; radius <= 0 gives none (such a file is then refused). Every format's particles
+ * are checked as the command checks them (finite centres of at most 1e17 in magnitude, radii in
+ * (0, 1e17]). Errors: NULL pointer (path or out), particle file, too large,
  * out of memory. On failure *out is untouched. */
 SPHRAY_API int sphray_particles_load(const char* path, float radius, sphray_particles** out);
 

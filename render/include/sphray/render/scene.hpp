@@ -113,20 +113,9 @@ struct SceneOptions {
 /// A preset if name_or_file names one (or starts with "random:"), a particle file if its
 /// extension is .sphp, .xyz or .csv (load_particle_scene), else a JSON file ("-": standard input).
 Scene load_scene_or_preset(std::string_view name_or_file, const SceneOptions& options = {});
-/// The spheres of a particle file and its colours (empty when the file has none).
-struct ParticleSpheres {
-  SphereSoA spheres;
-  std::vector<Vec3> colors;
-};
-/// The spheres of a particle file (sphray/particles/particles.hpp), refused as
-/// load_particle_scene refuses them. Throws SceneError.
-ParticleSpheres load_particle_spheres(const std::filesystem::path& file,
-                                      const SceneOptions& options = {});
 /// The spheres of a particle file (sphray/particles/particles.hpp), their colours from the file
 /// (none stored without: every sphere grey), options.material (Lambertian without), framed by
-/// framing(). Throws SceneError with the reader's message, or naming the first particle that is
-/// not finite with a positive radius of at most 1e17 (a .sphp file's floats are not checked by
-/// its reader) and its byte offset.
+/// framing(). Throws SceneError with the reader's message (or for an empty .sphp file).
 Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions& options = {});
 /// The camera of random:N and of particle files: outside the ball of centre center and radius
 /// bound, looking at its centre from direction (1, 0.6, 1.6), vfov 40, the whole ball in view.
