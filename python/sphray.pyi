@@ -167,8 +167,8 @@ class Scene:
         """A read-only view of the (N,) array the scene reads: yours if it was not copied."""
 
 def load(path: Union[str, bytes, "PathLike[str]"], radius: Optional[float] = None) -> Particles:
-    """Particles(centers (N, 3), radii (N,), colors (N, 3) or None) of a .sphp, .xyz or .csv
-    file; a .sphp file's arrays are views of a numpy.memmap of it."""
+    """Particles(centers (N, 3), radii (N,), colors (N, 3) or None) of a .sphp, .xyz, .csv, .ply
+    or .pdb file; a .sphp file's arrays are views of a numpy.memmap of it."""
 
 def pinhole_rays(
     eye: _ArrayLike,

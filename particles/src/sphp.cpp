@@ -11,7 +11,7 @@
 #include <cstring>
 
 #include "sphray/particles/particles.hpp"
-#include "text_lines.hpp"
+#include "support.hpp"
 
 namespace sphray::particles {
 namespace {

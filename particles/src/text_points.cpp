@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "sphray/particles/particles.hpp"
+#include "support.hpp"
 #include "text_lines.hpp"
 
 namespace sphray::particles {
@@ -28,13 +29,7 @@ class PointParser {
  public:
   PointParser(std::string source, const PointOptions& options)
       : source_(std::move(source)), options_(options) {
-    if (options.radius && !(std::isfinite(*options.radius) && *options.radius > 0 &&
-                            *options.radius <= kMaxMagnitude)) {
-      throw ParticleError(source_ +
-                          ": expected the radius given for the file to be positive and "
-                          "at most 1e17, got " +
-                          shortest(*options.radius));
-    }
+    detail::check_radius_option(source_, options);
   }
 
   void line(std::string_view text) {
@@ -150,11 +145,10 @@ class PointParser {
     const std::optional<float> value = as_number(fields_[i], range);
     if (range) fail(name() + " within float's range, got " + quoted(fields_[i]));
     if (!value) fail(name() + " to be a number, got " + quoted(fields_[i]));
-    if (!std::isfinite(*value)) fail(name() + " to be finite, got " + quoted(fields_[i]));
-    if (column == kRadius && !(*value > 0))
-      fail(name() + " to be positive, got " + quoted(fields_[i]));
-    if (column <= kRadius && std::abs(*value) > kMaxMagnitude)
-      fail(name() + " at most 1e17 in magnitude, got " + quoted(fields_[i]));
+    // Colours are checked for finiteness here and for their range below.
+    const char* problem = detail::coordinate_problem(*value, column == kRadius);
+    if (problem != nullptr && (column <= kRadius || !std::isfinite(*value)))
+      fail(name() + " " + problem + ", got " + quoted(fields_[i]));
     if (column >= kRed && !(*value >= 0 && *value <= 255))
       fail(name() + " in [0, 1] or [0, 255], got " + quoted(fields_[i]));
     return *value;
@@ -214,16 +208,18 @@ bool SphpFile::named(const std::filesystem::path& path) {
 
 bool is_particle_file(const std::filesystem::path& path) {
   const std::string ext = lower(path.extension().string());
-  return ext == ".sphp" || ext == ".xyz" || ext == ".csv" || ext == ".pdb" || ext == ".ent";
+  return ext == ".sphp" || ext == ".xyz" || ext == ".csv" || ext == ".ply" || ext == ".pdb" ||
+         ext == ".ent";
 }
 
 Points read_particle_file(const std::filesystem::path& path, const PointOptions& options) {
   const std::string ext = lower(path.extension().string());
   if (SphpFile::named(path)) return {read_sphp(path), {}};
   if (ext == ".xyz" || ext == ".csv") return read_points(path, options);
+  if (ext == ".ply") return read_ply(path, options);
   if (ext == ".pdb" || ext == ".ent") return read_pdb(path);
   throw ParticleError(path.string() +
-                      ": expected a particle file ending in .sphp, .xyz, .csv, .pdb or .ent");
+                      ": expected a particle file ending in .sphp, .xyz, .csv, .ply, .pdb or .ent");
 }
 
 }  // namespace sphray::particles

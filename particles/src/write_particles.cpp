@@ -74,14 +74,9 @@ void write_points(const ByteSink& sink, SphereView spheres, std::span<const Vec3
 
 void check_particle_output(const std::filesystem::path& path) {
   const std::string ext = extension_of(path);
-  if (ext == ".sphp" || ext == ".xyz" || ext == ".csv") return;
-  // The .ply writer (write_ply(sink, spheres, colors)) plugs in here and below once it exists.
-  if (ext == ".ply")
-    throw ParticleError(path.string() +
-                        ": .ply output is not supported yet; write .sphp, "
-                        ".xyz or .csv");
+  if (ext == ".sphp" || ext == ".xyz" || ext == ".csv" || ext == ".ply") return;
   throw ParticleError(path.string() +
-                      ": expected an output particle file ending in .sphp, .xyz or .csv");
+                      ": expected an output particle file ending in .sphp, .xyz, .csv or .ply");
 }
 
 void write_particle_file(const ByteSink& sink, const std::filesystem::path& path,
@@ -89,6 +84,7 @@ void write_particle_file(const ByteSink& sink, const std::filesystem::path& path
   check_particle_output(path);
   const std::string ext = extension_of(path);
   if (ext == ".sphp") return write_sphp(sink, spheres);
+  if (ext == ".ply") return write_ply(sink, spheres, colors);
   write_points(sink, spheres, colors, ext == ".csv" ? ',' : ' ');
 }
 

@@ -251,9 +251,9 @@ constexpr const char* kLoadDoc = R"doc(load(path, radius=None)
 The particles of a particle file: Particles(centers, radii, colors), a named tuple that
 sphray.Scene(p.centers, p.radii) takes as it is.
 
-path: a .sphp, .xyz or .csv file (docs/scenes.md, "Particle files"), its format chosen by its
-extension. radius: the radius of every particle of a text file without a radius column
-(ignored for a file that has one, and for .sphp). centers float32 (N, 3), radii float32 (N,),
+path: a .sphp, .xyz, .csv, .ply or .pdb file (docs/scenes.md, "Particle files"), its format
+chosen by its extension. radius: the radius of every particle of a text or PLY file without a
+radius (ignored for a file that has one, and for .sphp and .pdb). centers float32 (N, 3), radii float32 (N,),
 colors float32 (N, 3) in [0, 1] or None when the file has no colour columns (.sphp never has).
 
 A .sphp file is not read but mapped: centers and radii are read-only views of one

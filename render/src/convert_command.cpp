@@ -30,7 +30,7 @@ void add_convert_options(CLI::App& convert, ConvertArgs& args) {
                   "A preset (see `sphray scenes`), a .json file or a particle file (.sphp, .xyz, "
                   ".csv)")
       ->required();
-  convert.add_option("OUT", args.output, "The particle file to write: .sphp, .xyz or .csv")
+  convert.add_option("OUT", args.output, "The particle file to write: .sphp, .xyz, .csv or .ply")
       ->required();
   convert
       .add_option("--radius", args.radius,

@@ -186,11 +186,11 @@ void add_render_options(CLI::App& render, RenderArgs& args, RenderArgsScope scop
   render
       .add_option("--scene,-s", args.scene,
                   "A preset (see `sphray scenes`), a .json file or a particle file (.sphp, .xyz, "
-                  ".csv)")
+                  ".csv, .ply)")
       ->capture_default_str();
   render
       .add_option("--radius", args.radius,
-                  "The radius of every particle of a .xyz or .csv file without a radius column")
+                  "The radius of every particle of a .xyz, .csv or .ply file without a radius")
       ->check(CLI::Range(0x1p-126, 1e17))
       ->type_name("R");
   render

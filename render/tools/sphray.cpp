@@ -318,7 +318,7 @@ int run(int argc, char** argv) {
   sphray::render::convert::ConvertArgs convert_args;
   CLI::App* convert = app.add_subcommand(
       "convert",
-      "Write the spheres of a scene or particle file as a particle file (.sphp, .xyz, .csv)");
+      "Write the spheres of a scene or particle file as a particle file (.sphp, .xyz, .csv, .ply)");
   add_convert_options(*convert, convert_args);
   CLI::App* scenes = app.add_subcommand("scenes", "List the preset scenes");
   CLI::App* info = app.add_subcommand("info", "Print the version and the instruction set in use");

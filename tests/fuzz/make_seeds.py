@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Writes the kernel fuzzer's seed corpus (corpus/kernel/) in the byte format kernel_fuzzer.cpp
 decodes: a head byte (ray count, misalignment, padded view), a sphere count, the rays, the
-spheres, the padding's radii, then per ray whether it starts on a sphere's surface; and the PDB
-fuzzer's (corpus/pdb/): small PDB files. Run from tests/fuzz/; the output is committed."""
+spheres, the padding's radii, then per ray whether it starts on a sphere's surface; the PDB
+fuzzer's (corpus/pdb/): small PDB files; and the PLY fuzzer's (corpus/ply/): a first byte
+choosing the radius given ('@' none), then a PLY file. Run from tests/fuzz/; the output is
+committed."""
 import random
 import struct
 from pathlib import Path
@@ -128,5 +130,47 @@ def pdb_seeds():
         (out / name).write_bytes(text.encode("ascii"))
 
 
+def ply_header(fmt, elements):
+    """A PLY header: elements is a list of (name, count, [property lines])."""
+    lines = ["ply", f"format {fmt} 1.0", "comment a seed"]
+    for name, count, props in elements:
+        lines.append(f"element {name} {count}")
+        lines += [f"property {p}" for p in props]
+    return ("\n".join(lines) + "\nend_header\n").encode()
+
+
+def ply_seeds():
+    out = Path("corpus/ply")
+    out.mkdir(parents=True, exist_ok=True)
+    xyzr = ["float x", "float y", "float z", "float radius"]
+    rgb = ["uchar red", "uchar green", "uchar blue"]
+    face = ("face", 2, ["list uchar int vertex_indices"])
+    seeds = {
+        "ascii-radius-colours": b"@" + ply_header("ascii", [("vertex", 3, xyzr + rgb), face]) +
+        b"0 0 0 0.5 255 0 0\n1 0 0 0.25 0 255 0\n0 1 0 1 0 0 255\n3 0 1 2\n0\n",
+        "ascii-no-radius": b"r" + ply_header("ascii", [("vertex", 2, ["double x", "double y",
+                                                                        "double z"])]) +
+        b"1.5 -2 3e2\n0 0 0\n",
+        "ascii-bad-value": b"@" + ply_header("ascii", [("vertex", 1, xyzr)]) + b"1 2 nan 1\n",
+    }
+    # The same two vertices in both byte orders, after a face element with a list and with
+    # properties of every width among theirs.
+    props = ["short x", "uint8 y", "float64 z", "list ushort float normals", "float32 scale",
+             "float red", "float green", "float blue", "int id"]
+    for fmt, order in (("binary_little_endian", "<"), ("binary_big_endian", ">")):
+        body = struct.pack(order + "BiiiBii", 3, 0, 1, 2, 2, 0, 1)
+        for x, y, z, r in ((-3, 200, 0.5, 0.75), (7, 0, -1e3, 2.0)):
+            body += struct.pack(order + "hBdH", x, y, z, 2) + struct.pack(order + "ff", 0, 1)
+            body += struct.pack(order + "ffffi", r, 0.5, 0.25, 1.0, 9)
+        seeds[f"{fmt}-types"] = b"@" + ply_header(fmt, [face, ("vertex", 2, props)]) + body
+    written = struct.pack("<" + "ffffBBB" * 2, 0, 0, 0, 1, 255, 128, 0, 2, 0, 0, 0.5, 0, 0, 255)
+    seeds["written-by-sphray"] = b"@" + ply_header("binary_little_endian",
+                                                   [("vertex", 2, xyzr + rgb)]) + written
+    seeds["truncated"] = seeds["written-by-sphray"][:-5]
+    for name, data in seeds.items():
+        (out / name).write_bytes(data)
+
+
 if __name__ == "__main__":
     main()
+    ply_seeds()

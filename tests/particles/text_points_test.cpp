@@ -116,9 +116,9 @@ TEST_F(TextPoints, BadFilesAreRefusedNamingTheLine) {
   }
   expect_refused([&] { read_points(dir_); },
                  dir_.string() + ": expected a particle file, got a directory");
-  expect_refused([&] { sphray::particles::read_particle_file(path("a.ply")); },
-                 path("a.ply").string() +
-                     ": expected a particle file ending in .sphp, .xyz, .csv, .pdb or .ent");
+  expect_refused([&] { sphray::particles::read_particle_file(path("a.obj")); },
+                 path("a.obj").string() +
+                     ": expected a particle file ending in .sphp, .xyz, .csv, .ply, .pdb or .ent");
 }
 
 // Floats written shortest-exact (std::to_chars) read back as the same bits.

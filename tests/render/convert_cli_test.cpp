@@ -55,15 +55,17 @@ void expect_same_bits(sphray::SphereView a, sphray::SphereView b) {
   }
 }
 
-TEST_F(ConvertCli, SphpToXyzToCsvToSphpIsTheSameFileBitForBit) {
+TEST_F(ConvertCli, SphpToXyzToCsvToPlyToSphpIsTheSameFileBitForBit) {
   write_sphp_file(path("a.sphp"), awkward_spheres());
-  const char* steps[][2] = {{"a.sphp", "b.xyz"}, {"b.xyz", "c.csv"}, {"c.csv", "d.sphp"}};
+  const char* steps[][2] = {
+      {"a.sphp", "b.xyz"}, {"b.xyz", "c.csv"}, {"c.csv", "d.ply"}, {"d.ply", "e.sphp"}};
   for (const auto& step : steps) {
     const auto r = run_sphray(std::string("convert -q ") + path(step[0]) + " " + path(step[1]));
     ASSERT_EQ(r.status, 0) << step[0] << " -> " << step[1] << ": " << r.out;
     EXPECT_EQ(r.out, "");
   }
-  EXPECT_EQ(read_bytes(path("d.sphp")), read_bytes(path("a.sphp")));
+  EXPECT_EQ(read_bytes(path("e.sphp")), read_bytes(path("a.sphp")));
+  EXPECT_TRUE(read_bytes(path("d.ply")).starts_with("ply\nformat binary_little_endian 1.0\n"));
   EXPECT_TRUE(read_bytes(path("b.xyz")).starts_with("x y z radius\n0.1 -0 1e+17 1e-30\n"))
       << read_bytes(path("b.xyz"));
   EXPECT_TRUE(read_bytes(path("c.csv")).starts_with("x,y,z,radius\n0.1,-0,1e+17,1e-30\n"));
@@ -111,9 +113,7 @@ TEST_F(ConvertCli, RefusalsLeaveTheOutputUntouched) {
       {path("none.xyz") + " " + path("out.sphp"),
        path("none.xyz") + ": cannot read the particle file (No such file or directory)"},
       {path("good.xyz") + " " + path("out.txt"),
-       path("out.txt") + ": expected an output particle file ending in .sphp, .xyz or .csv"},
-      {path("good.xyz") + " " + path("out.ply"),
-       path("out.ply") + ": .ply output is not supported yet; write .sphp, .xyz or .csv"},
+       path("out.txt") + ": expected an output particle file ending in .sphp, .xyz, .csv or .ply"},
       {"no-such-preset " + path("out.sphp"), ""},
   };
   for (const Case& c : cases) {

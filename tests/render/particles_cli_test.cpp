@@ -1,4 +1,4 @@
-// `sphray render -s FILE` with particle files (.xyz, .csv, .sphp): they render framed as
+// `sphray render -s FILE` with particle files (.xyz, .csv, .sphp, .ply): they render framed as
 // random:N is, the same spheres give the same image from any format, and a bad file is refused
 // with exit status 2, one line naming the file and line, and the output untouched.
 #include <gtest/gtest.h>
@@ -37,15 +37,20 @@ TEST_F(ParticleCli, TheSameSpheresGiveTheSameImageFromEveryFormat) {
   spheres.add({-1, 0, 0}, 0.5f);
   spheres.add({1, 0, 0}, 0.75f);
   std::ofstream out(path("a.sphp"), std::ios::binary);
-  sphray::particles::write_sphp(
-      [&](const void* data, std::size_t size) {
-        out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
-      },
-      spheres.view());
+  const auto to_out = [&](const void* data, std::size_t size) {
+    out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
+  };
+  sphray::particles::write_sphp(to_out, spheres.view());
   out.close();
+  out.open(path("a.ply"), std::ios::binary);
+  sphray::particles::write_ply(to_out, spheres.view());
+  out.close();
+  write_text(path("b.ply"),
+             "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+             "property float z\nproperty float radius\nend_header\n-1 0 0 0.5\n1 0 0 0.75\n");
   for (const char* mode : {"normals", "id"}) {
     std::string first;
-    for (const char* file : {"a.xyz", "a.csv", "a.sphp"}) {
+    for (const char* file : {"a.xyz", "a.csv", "a.sphp", "a.ply", "b.ply"}) {
       const auto r = run_sphray(std::string("render -q -m ") + mode + " -W 64 -H 36 -s " +
                                 path(file) + " -o " + path(std::string(file) + ".ppm"));
       ASSERT_EQ(r.status, 0) << file << ": " << r.out;
@@ -245,6 +250,20 @@ TEST_F(ParticleCli, BadFilesAreRefusedAndTheOutputIsUntouched) {
       {"bad.xyz", "1 2 3 -1\n", "--radius 1",
        ":1: expected column 4 (radius) to be positive, got \"-1\""},
       {"empty.xyz", "# nothing\n", "", ": expected particles, the file has none"},
+      {"bad.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+       "property float z\nend_header\n1 2 3\n",
+       "",
+       ":3: expected a property radius (or scale) in element vertex, or a radius given for the "
+       "file (sphray render --radius R)"},
+      // A list of 5 ints of which the file holds one.
+      {"cut.ply",
+       std::string("ply\nformat binary_big_endian 1.0\nelement vertex 1\nproperty uchar x\n"
+                   "property uchar y\nproperty uchar z\nproperty float radius\nelement face 1\n"
+                   "property list uchar int v\nend_header\n"
+                   "\1\2\3\x3f\x80\0\0\5\0\0\0\1",
+                   187),
+       "", ": byte 187 (face 0): file ends, expected 16 more bytes"},
       {"bad.sphp", "SPHRAYP", "", ": truncated: 7 bytes, less than the 32-byte header"},
       {"nan.sphp",
        std::string("SPHRAYP\0\1\0\0\0\0\0\0\0\1\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0", 32) +

@@ -1,4 +1,4 @@
-/* sphray's particle file loader for C: the spheres of a .sphp, .xyz or .csv file
+/* sphray's particle file loader for C: the spheres of a .sphp, .xyz, .csv, .ply or .pdb file
  * (docs/scenes.md, "Particle files") in arrays that sphray_scene_create (sphray.h) takes as
  * they are. A library of its own, libsphray_particles.so.0, so that libsphray never reads a
  * file. C99; includable from C and C++; no C++ type or exception crosses it.

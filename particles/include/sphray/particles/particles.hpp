@@ -7,6 +7,8 @@
 //   .xyz, .csv   text points, one particle per line: x y z [r] [red green blue], separated by
 //                whitespace or (when the first line that is not blank or a comment has a comma)
 //                by commas; an optional header line naming the columns; '#' starts a comment;
+//   .ply         PLY, ascii or binary of either byte order: the element vertex's x, y, z, radius
+//                (or scale), red, green, blue; other elements and properties are read past.
 //   .pdb, .ent   PDB atoms: the ATOM and HETATM records of the first model (up to the first
 //                ENDMDL), in the PDB v3.3 fixed columns (x 31-38, y 39-46, z 47-54, element
 //                77-78, else guessed from the atom name, 13-16); each atom a sphere of its
@@ -15,7 +17,8 @@
 //                colour. Every other record is ignored; a symbol that is no element is refused.
 //
 // Every reader refuses a bad file with a ParticleError whose what() is one line naming the
-// file, the line (text) or the particle and its byte offset (binary), and the problem.
+// file, the line (text, a PLY header or ascii body) or the particle and its byte offset
+// (binary), and the problem.
 #pragma once
 
 #include <cstddef>
@@ -138,13 +141,34 @@ Points read_pdb(const std::filesystem::path& file);
 /// PDB atoms parsed from text; source names it in messages. Throws ParticleError.
 Points parse_pdb(std::string_view text, const std::string& source);
 
+// --- PLY (.ply) ---------------------------------------------------------------------------
+//
+// ascii 1.0, binary_little_endian 1.0 and binary_big_endian 1.0. The element vertex gives the
+// particles, in file order: properties x, y, z, radius (or scale: a radius, not a logarithm),
+// red, green, blue, each of any scalar type; integer colours are 0-255 (divided by 255), float
+// colours 0-1. Every other element and property (lists too) is read past. An ascii body has one
+// element a line, each line at most kMaxLineBytes.
+
+/// PLY particles read from file through a 1 MiB buffer (memory grows with the particles, not
+/// with the file). Throws ParticleError "FILE:LINE: expected ..." (header, ascii body) or
+/// "FILE: byte OFFSET (ELEMENT INDEX): ..." (binary body).
+Points read_ply(const std::filesystem::path& file, const PointOptions& options = {});
+/// PLY particles parsed from bytes; source names it in messages. Throws ParticleError.
+Points parse_ply(std::string_view bytes, const std::string& source,
+                 const PointOptions& options = {});
+/// A binary_little_endian PLY file of spheres (float x, y, z, radius) and, when colors is not
+/// empty (one per sphere), uchar red, green, blue (each colour clamped to [0, 1] and rounded to
+/// k / 255), given to sink in pieces of at most 1 MiB. Throws ParticleError for 2^32 - 1 spheres
+/// or more, or a colour count that is not the spheres'; what sink throws passes through.
+void write_ply(const ByteSink& sink, SphereView spheres, std::span<const Vec3> colors = {});
+
 // --- Any particle file --------------------------------------------------------------------
 
-/// Whether path names a particle file by its extension (.sphp, .xyz, .csv, .pdb, .ent; any
-/// case).
+/// Whether path names a particle file by its extension (.sphp, .xyz, .csv, .ply, .pdb, .ent;
+/// any case).
 bool is_particle_file(const std::filesystem::path& path);
-/// The particles of a .sphp, .xyz, .csv, .pdb or .ent file, chosen by its extension (no colours
-/// from .sphp; options apply to .xyz and .csv). Throws ParticleError.
+/// The particles of a .sphp, .xyz, .csv, .ply, .pdb or .ent file, chosen by its extension (no
+/// colours from .sphp; options apply to .xyz, .csv and .ply). Throws ParticleError.
 Points read_particle_file(const std::filesystem::path& path, const PointOptions& options = {});
 
 // --- Writing particle files -----------------------------------------------------------------

@@ -104,14 +104,15 @@ struct MaterialEntry {
 MaterialEntry parse_material(std::string_view json_text, const std::string& source);
 /// What a particle file may leave to the caller.
 struct SceneOptions {
-  /// The radius of every particle of a text file without a radius column (`--radius`).
+  /// The radius of every particle of a text or PLY file without a radius (`--radius`).
   std::optional<float> radius;
   /// Every particle's material (`--material`), its albedo the particle's colour; Lambertian
   /// without. Only for particle files: load_scene_or_preset refuses it for other scenes.
   std::optional<Material> material;
 };
 /// A preset if name_or_file names one (or starts with "random:"), a particle file if its
-/// extension is .sphp, .xyz or .csv (load_particle_scene), else a JSON file ("-": standard input).
+/// extension is .sphp, .xyz, .csv or .ply (load_particle_scene), else a JSON file ("-":
+/// standard input).
 Scene load_scene_or_preset(std::string_view name_or_file, const SceneOptions& options = {});
 /// The spheres of a particle file (sphray/particles/particles.hpp), their colours from the file
 /// (none stored without: every sphere grey), options.material (Lambertian without), framed by
