@@ -75,8 +75,10 @@ Prims make_prims(SphereView v) {
 
 template <class T>
 BvhArrays::AlignedArray<T> allocate(std::size_t n) {
-  return BvhArrays::AlignedArray<T>(
+  BvhArrays::AlignedArray<T> array(
       static_cast<T*>(::operator new[](n * sizeof(T), std::align_val_t{64})));
+  prefer_huge_pages(array.get(), n * sizeof(T));
+  return array;
 }
 
 // The zeroed nodes of a tree of nodes nodes.

@@ -14,6 +14,7 @@
 
 #include "brute/validity.hpp"
 #include "bvh/node.hpp"
+#include "storage/huge_pages.hpp"
 
 namespace sphray::detail {
 
@@ -104,7 +105,10 @@ static_assert(std::is_trivially_default_constructible_v<Prim> && sizeof(Prim) ==
 // array of their own so that a prim stays 16 bytes, one aligned load. Default-initialised: the
 // builder writes every element before reading it.
 struct Prims {
-  explicit Prims(std::size_t n) : data(new Prim[n]), ids(new std::uint32_t[n]), size(n) {}
+  explicit Prims(std::size_t n) : data(new Prim[n]), ids(new std::uint32_t[n]), size(n) {
+    prefer_huge_pages(data.get(), n * sizeof(Prim));
+    prefer_huge_pages(ids.get(), n * sizeof(std::uint32_t));
+  }
   Prim& operator[](std::size_t i) { return data[i]; }
   const Prim& operator[](std::size_t i) const { return data[i]; }
   // Element from of this to element at of to.

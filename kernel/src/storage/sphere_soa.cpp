@@ -1,4 +1,5 @@
 #include "sphray/spheres.hpp"
+#include "storage/huge_pages.hpp"
 
 #include "sphray/ray.hpp"
 
@@ -43,6 +44,7 @@ void SphereSoA::reallocate(std::size_t capacity) {
   }
   std::unique_ptr<float[], AlignedDelete> data(static_cast<float*>(
       ::operator new[](4 * capacity * sizeof(float), std::align_val_t{kAlignment})));
+  detail::prefer_huge_pages(data.get(), 4 * capacity * sizeof(float));
   std::fill_n(data.get(), 4 * capacity, 0.0f);
   for (int k = 0; k < 4; ++k)
     if (size_ != 0) std::memcpy(data.get() + k * capacity, array(k), size_ * sizeof(float));
