@@ -2,9 +2,9 @@
 """Writes the kernel fuzzer's seed corpus (corpus/kernel/) in the byte format kernel_fuzzer.cpp
 decodes: a head byte (ray count, misalignment, padded view), a sphere count, the rays, the
 spheres, the padding's radii, then per ray whether it starts on a sphere's surface; the PDB
-fuzzer's (corpus/pdb/): small PDB files; and the PLY fuzzer's (corpus/ply/): a first byte
-choosing the radius given ('@' none), then a PLY file. Run from tests/fuzz/; the output is
-committed."""
+fuzzer's (corpus/pdb/): small PDB files; the PLY fuzzer's (corpus/ply/): a first byte
+choosing the radius given ('@' none), then a PLY file; and the .sphp fuzzer's (corpus/sphp/):
+binary particle files. Run from tests/fuzz/; the output is committed."""
 import random
 import struct
 from pathlib import Path
@@ -171,6 +171,31 @@ def ply_seeds():
         (out / name).write_bytes(data)
 
 
+def sphp_seeds():
+    """The .sphp fuzzer's (corpus/sphp/): binary particle files, good and broken."""
+    out = Path("corpus/sphp")
+    out.mkdir(parents=True, exist_ok=True)
+
+    def sphp(records, count=None):
+        count = len(records) if count is None else count
+        body = b"".join(struct.pack("<4f", *r) for r in records)
+        return b"SPHRAYP\0" + struct.pack("<IIQQ", 1, 0, count, 0) + body
+
+    three = [(0, 0, 0, 1), (2.5, -1, 0.5, 0.25), (1e17, -1e17, 0, 1e17)]
+    seeds = {
+        "three": sphp(three),
+        "empty": sphp([]),
+        "truncated": sphp(three)[:-5],
+        "count-too-large": sphp(three, count=4),
+        "nan": sphp([(0, 0, float("nan"), 1)]),
+        "zero-radius": sphp([(1, 2, 3, 0)]),
+        "version-2": sphp(three).replace(b"\1\0\0\0", b"\2\0\0\0", 1),
+    }
+    for name, data in seeds.items():
+        (out / name).write_bytes(data)
+
+
 if __name__ == "__main__":
     main()
     ply_seeds()
+    sphp_seeds()
