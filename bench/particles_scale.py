@@ -8,11 +8,13 @@ when already there), then
     resident memory;
   - times reading it and building sphray's tree and Embree's over the same spheres, on one and on
     all threads: `sphray_bench_particles --particles=FILE`.
-It prints the table of docs/performance.md, "Particles at scale", and the goals of issue 34 met or
-missed. A size that does not fit the machine's free memory is left out, said so.
+It prints the section "Particles at scale" of docs/performance.md (the table and the goals of
+issue 34, met or missed) and, with --write-docs, replaces that section of the page (bench/run.sh
+keeps it as it stands). A size that does not fit the machine's free memory is left out, said so.
 
-Run from the repository root after a release build (about 15 minutes at the three sizes):
-    /usr/bin/python3 bench/particles_scale.py --dir /tmp/particles --out scale.json
+Run from the repository root after a release build (about 15 minutes at the three sizes, 1.8 GB
+of files in --dir), on a quiet machine:
+    /usr/bin/python3 bench/particles_scale.py --dir /tmp/particles --out scale.json --write-docs
     /usr/bin/python3 bench/particles_scale.py --sizes 1000000 --dir /tmp/particles   # quick
 """
 import argparse
@@ -22,6 +24,7 @@ import re
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "bench"))
@@ -133,6 +136,33 @@ def goals(results, threads):
     return "\n".join(out)
 
 
+HEADING = "## Particles at scale"
+
+INTRO = """Issue 34: from a particle file on disk to the first image, for 1M, 10M and 100M random spheres
+(`bench/make_cloud.py`: uniform in a cube that grows with the count, radii 0.2 to 0.6, the same
+density at every size) in `.sphp` files of 16 bytes a sphere. The render is `sphray render -m
+normals`, 1920x1080, one sample per pixel, on every core; its second summary line gives each
+phase and the peak resident memory of the whole process (the spheres, the tree, the build's
+scratch, the image). Read and build times are `sphray_bench_particles` on the same file, in
+another process: the read into a `SphereSoA` (the library's `pread`, and a memory map beside it
+for comparison), sphray's tree build and Embree's `rtcCommitScene` (its `bytes_per_sphere` from
+Embree's own memory monitor, the spheres' buffer included) on the same spheres. Regenerate this
+section with `bench/particles_scale.py --write-docs` (the commands below); `bench/run.sh` keeps it
+as it stands."""
+
+
+def section(results, threads, load, when):
+    def shown(command):  # the file by its name, wherever --dir put it
+        return re.sub(r"[^ =]*/(cloud\d+\.sphp)", r"\1", command)
+
+    return "\n".join([
+        HEADING, "", INTRO, "",
+        "Measured %s on the machine above, load average %s at the end. Commands, per size (the "
+        "files written by `bench/make_cloud.py N cloudN.sphp`): `%s`, `%s`." % (when, ", ".join(load), shown(results[0]["render_command"]),
+                                 shown(results[0]["bench_command"])),
+        "", table(results, threads), "", goals(results, threads)])
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--sizes", type=int, nargs="+", default=[1000000, 10000000, 100000000])
@@ -142,7 +172,34 @@ def main():
     p.add_argument("--min-time", type=float, default=1.0, help="Google Benchmark's, per row")
     p.add_argument("--threads", type=int, default=os.cpu_count())
     p.add_argument("--out", help="also write the measurements as JSON")
+    p.add_argument("--write-docs", action="store_true",
+                   help="replace the section of docs/performance.md")
+    p.add_argument("--from-json", help="no measuring: the section from a JSON --out wrote")
     args = p.parse_args()
+    if args.from_json:
+        with open(args.from_json) as f:
+            saved = json.load(f)
+        results, load = saved["results"], saved["load_average"]
+        when = saved.get("date", time.strftime("%Y-%m-%d"))
+    else:
+        results, load = measure_all(args), loadavg()
+        when = time.strftime("%Y-%m-%d")
+    text = section(results, args.threads, load, when)
+    print(text)
+    if args.out:
+        with open(args.out, "w") as f:
+            json.dump({"load_average": load, "date": when, "results": results}, f, indent=1)
+    if args.write_docs:
+        from report import update_section  # needs matplotlib, only here
+        update_section(Path(ROOT) / "docs", HEADING, text, before="## The Python module against numpy")
+
+
+def loadavg():
+    with open("/proc/loadavg") as f:
+        return f.read().split()[:3]
+
+
+def measure_all(args):
     os.makedirs(args.dir, exist_ok=True)
     results = []
     for n in args.sizes:
@@ -150,23 +207,14 @@ def main():
         # Embree's: about 150 bytes per sphere at most.
         if free_bytes() < 150 * n:
             print("left out: %d spheres need about %.1f GB, %.1f GB available"
-                  % (n, 150 * n / 1e9, free_bytes() / 1e9))
+                  % (n, 150 * n / 1e9, free_bytes() / 1e9), file=sys.stderr)
             continue
         start = time.time()
         results.append(measure(n, args))
         print("measured %d spheres in %.0f s" % (n, time.time() - start), file=sys.stderr)
     if not results:
         sys.exit("nothing measured")
-    with open("/proc/loadavg") as f:
-        load = f.read().split()[:3]
-    print("Load average at the end: %s." % ", ".join(load))
-    print("Commands: `%s`, `%s`.\n" % (results[0]["render_command"], results[0]["bench_command"]))
-    print(table(results, args.threads))
-    print()
-    print(goals(results, args.threads))
-    if args.out:
-        with open(args.out, "w") as f:
-            json.dump({"load_average": load, "results": results}, f, indent=1)
+    return results
 
 
 if __name__ == "__main__":

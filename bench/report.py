@@ -1111,6 +1111,8 @@ def update_section(docs, heading, section, before=OPEN3D_BEFORE):
 # The rays-across crossover (the query plan's rule 9) is measured with its own commands, over
 # more sphere counts than this run's scenes: a regeneration keeps the section as it stands.
 ACROSS_HEADING = "## Rays across the lanes"
+# Particle files at 1M to 100M spheres: bench/particles_scale.py measures and writes it.
+PARTICLES_HEADING = "## Particles at scale"
 
 
 def kept_section(docs, heading):
@@ -1196,6 +1198,7 @@ def main(argv):
         queries_section(res),
         every_hit_section(res),
         build_table(res),
+        kept_section(args.docs, PARTICLES_HEADING),
         numpy_section(numpy_data, "images/perf-python-numpy.png"),
         open3d_section(open3d, "images/perf-python-open3d.png"),
         ckdtree_section(ckdtree),
