@@ -137,6 +137,10 @@ void SphpFile::read(std::uint64_t first, std::uint64_t end, SphereSoA& spheres,
   }
 }
 
+bool SphpFile::named(const std::filesystem::path& path) {
+  return detail::lower(path.extension().string()) == ".sphp";
+}
+
 SphereSoA read_sphp(const std::filesystem::path& path) {
   const SphpFile file(path);
   SphereSoA spheres;

@@ -202,10 +202,6 @@ Points read_points(const std::filesystem::path& file, const PointOptions& option
   return parser.finish();
 }
 
-bool SphpFile::named(const std::filesystem::path& path) {
-  return lower(path.extension().string()) == ".sphp";
-}
-
 bool is_particle_file(const std::filesystem::path& path) {
   const std::string ext = lower(path.extension().string());
   return ext == ".sphp" || ext == ".xyz" || ext == ".csv" || ext == ".ply" || ext == ".pdb" ||
