@@ -49,7 +49,8 @@ struct Split {
   int axis = -1;
   std::int32_t bin = 0;  // spheres in bins <= bin go left
   Binning binning;
-  Bin left, right;  // what each side will hold
+  Bin left, right;       // what each side will hold, or of the sample binned
+  bool sampled = false;  // whether the bins saw only a sample of the range
 };
 
 }  // namespace sphray::detail

@@ -90,33 +90,56 @@ void allocate_nodes(BvhArrays& out, std::size_t nodes) {
 }
 
 // The sphere slots, rounded to 16 floats so that each of the four arrays starts on a cache
-// line, all never hit (radius 0, id kNoHit) until the leaves' spheres are written.
+// line. Not written here: write_leaves writes every slot, in order, so that a slot's page is
+// first touched when it is filled.
 void allocate_slots(BvhArrays& out, std::size_t slots) {
   out.slots = (slots + 15) / 16 * 16;
   if (out.slots >= kBvhLeafBit) throw std::length_error("sphray::SphereBVH: too many spheres");
   out.spheres = allocate<float>(4 * out.slots);
   out.ids = allocate<std::uint32_t>(out.slots);
-  std::fill_n(out.spheres.get(), 4 * out.slots, 0.0f);
-  std::fill_n(out.ids.get(), out.slots, kNoHit);
 }
 
-// The spheres and ids of the built tree: each leaf's prims to its slots, an invalid sphere as
-// centre 0 and radius 0, which the kernel never hits either.
-void write_spheres(BvhArrays& out, const Prims& prims, const std::vector<LeafPlace>& leaves) {
+// Slots [first, first + count) as never hit: centre 0, radius 0, id kNoHit.
+void write_padding(BvhArrays& out, std::size_t first, std::size_t count) {
+  float* x = out.spheres.get() + first;
+  for (std::size_t row = 0; row < 4; ++row)
+    std::fill_n(x + row * out.slots, count, 0.0f);
+  std::fill_n(out.ids.get() + first, count, kNoHit);
+}
+
+// Leaf k's spheres and ids to its slots, then never-hit padding to the width; an invalid
+// sphere as centre 0 and radius 0, which the kernel never hits either.
+void write_leaf(BvhArrays& out, const Prims& prims, const LeafPlace& leaf, std::size_t k) {
   float* x = out.spheres.get();
   float *y = x + out.slots, *z = y + out.slots, *r = z + out.slots;
-  parallel_for(leaves.size(), kBlock / 16, [&](std::size_t k) {
-    const LeafPlace& leaf = leaves[k];
-    for (std::size_t j = 0; j < leaf.count; ++j) {
-      const Prim& p = prims[leaf.begin + j];
-      const std::size_t i = k * out.width + j;
-      x[i] = p.sphere[0];
-      y[i] = p.sphere[1];
-      z[i] = p.sphere[2];
-      r[i] = std::max(p.sphere[3], 0.0f);  // an invalid sphere's -inf (prim.hpp) to radius 0
-      out.ids[i] = prims.ids[leaf.begin + j];
-    }
-  });
+  const std::size_t first = k * out.width;
+  for (std::size_t j = 0; j < leaf.count; ++j) {
+    const Prim& p = prims[leaf.begin + j];
+    x[first + j] = p.sphere[0];
+    y[first + j] = p.sphere[1];
+    z[first + j] = p.sphere[2];
+    r[first + j] = std::max(p.sphere[3], 0.0f);  // an invalid sphere's -inf (prim.hpp) to 0
+    out.ids[first + j] = prims.ids[leaf.begin + j];
+  }
+  write_padding(out, first + leaf.count, out.width - leaf.count);
+}
+
+// Every slot of the tree, from the records, which hold the leaves' spheres in leaf order. The
+// records' pages go back to the system a stretch at a time as they are read, so the slots take
+// their place rather than adding to the build's peak memory (issue 34).
+void write_leaves(BvhArrays& out, Prims& prims, const std::vector<LeafPlace>& leaves) {
+  constexpr std::size_t kStretch = std::size_t{1} << 16;  // leaves: about 1M spheres
+  for (std::size_t begin = 0; begin < leaves.size(); begin += kStretch) {
+    const std::size_t end = std::min(begin + kStretch, leaves.size());
+    parallel_for(end - begin, kBlock / 16,
+                 [&](std::size_t k) { write_leaf(out, prims, leaves[begin + k], begin + k); });
+    const std::size_t from = leaves[begin].begin;
+    const std::size_t to = end < leaves.size() ? leaves[end].begin : prims.size;
+    release_pages(&prims[from], (to - from) * sizeof(Prim));
+    release_pages(&prims.ids[from], (to - from) * sizeof(std::uint32_t));
+  }
+  const std::size_t used = leaves.size() * out.width;
+  write_padding(out, used, out.slots - used);
 }
 
 // The most spheres a flat tree holds: kBvhBruteForceLeaves full leaves, as many as the root
@@ -125,9 +148,7 @@ std::size_t flat_up_to(std::size_t width) {
   return width * std::min(width, kBvhBruteForceLeaves);
 }
 
-// The builder's tree over prims, which it permutes into leaf order. The builder, and with it
-// its scratch arrays (as large as prims), is gone before the output tree is allocated: they
-// were the build's peak memory (issue 34).
+// The builder's tree over prims, which it permutes into leaf order, in place.
 Builder::Node build_nodes(Prims& prims, std::size_t width, std::size_t parallel_min,
                           ProgressCount& progress, bool flat) {
   Builder builder(prims, width, parallel_min, progress);
@@ -159,7 +180,7 @@ BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min,
     flat.write(root, 0);
   }
   allocate_slots(out, flat.slots_used);
-  write_spheres(out, prims, flat.leaves);
+  write_leaves(out, prims, flat.leaves);
   out.leaf_overlap = measure_leaf_overlap(out);
   return out;
 }

@@ -29,22 +29,62 @@ namespace sphray::detail {
 constexpr std::size_t kBins = 32;
 constexpr std::size_t kFewBins = 16;
 constexpr std::size_t kFewBinsBelow = 64;
+// A range of more spheres than twice this chooses its split from kBinSamples to twice as many of
+// them, evenly spaced, and finds its sides' boxes in a pass after the partition: the top levels
+// of a large tree then read their spheres twice a split rather than three times, with splits
+// whose cost differs from the full binning's by a fraction of a percent (docs/bvh.md).
+constexpr std::size_t kBinSamples = std::size_t{1} << 14;
 // Past this depth every split is a median split, which at least halves a range: with ids
 // below 2^32 the tree then stays within kBvhMaxDepth levels.
 constexpr std::size_t kSahDepth = kBvhMaxDepth / 2;
+
+// Ranges of positions, in order, and the k-th position over all of them.
+class Runs {
+  struct Run {
+    std::size_t begin, end, before;  // before: positions in the runs ahead of it
+  };
+
+ public:
+  void add(std::size_t begin, std::size_t end) {
+    if (begin < end) runs_.push_back({begin, end, total_});
+    total_ += end > begin ? end - begin : 0;
+  }
+  std::size_t total() const { return total_; }
+
+  class Cursor {
+   public:
+    Cursor(const Runs& runs, std::size_t run, std::size_t at)
+        : runs_(runs.runs_), run_(run), at_(at) {}
+    std::size_t next() {
+      if (at_ == runs_[run_].end) at_ = runs_[++run_].begin;
+      return at_++;
+    }
+
+   private:
+    const std::vector<Run>& runs_;
+    std::size_t run_, at_;
+  };
+  // A cursor whose next() is the k-th position (k < total()).
+  Cursor at(std::size_t k) const {
+    const auto run = std::upper_bound(runs_.begin(), runs_.end(), k,
+                                      [](std::size_t v, const Run& r) { return v < r.before; });
+    const std::size_t index = static_cast<std::size_t>(run - runs_.begin()) - 1;
+    return Cursor(*this, index, runs_[index].begin + (k - runs_[index].before));
+  }
+
+ private:
+  std::vector<Run> runs_;
+  std::size_t total_ = 0;
+};
 
 class Builder {
  public:
   Builder(Prims& prims, std::size_t width, std::size_t parallel_min, ProgressCount& progress)
       : p_(prims),
         progress_(progress),
-        scratch_(prims.size),
         width_(width),
         parallel_min_(std::max<std::size_t>(parallel_min, 1024)),
-        block_(std::clamp<std::size_t>(parallel_min_ / 4, 256, kBlock)) {
-    // Parallel partitions note each prim's side here.
-    if (p_.size >= parallel_min_) left_side_.resize(p_.size);
-  }
+        block_(std::clamp<std::size_t>(parallel_min_ / 4, 256, kBlock)) {}
 
   struct Node {
     // A child keeps its range and box, not its centre bounds, which only its own build reads:
@@ -146,9 +186,12 @@ class Builder {
         const std::size_t mid =
             c.size() >= parallel_min_
                 ? partition_parallel(c, goes_left, left_centroids, right_centroids)
-                : partition_serial(c, goes_left, left_centroids, right_centroids);
-        // The bins already hold both sides' boxes: no pass over the spheres to find them.
-        if (mid == c.begin + s.left.count)
+                : partition_serial(c.begin, c.end, goes_left, left_centroids, right_centroids);
+        // The bins already hold both sides' boxes, unless they saw only a sample: then one
+        // pass finds them.
+        if (s.sampled && mid > c.begin && mid < c.end)
+          return {cluster(c.begin, mid), cluster(mid, c.end)};
+        if (!s.sampled && mid == c.begin + s.left.count)
           return {{c.begin, mid, s.left.box, left_centroids},
                   {mid, c.end, s.right.box, right_centroids}};
       }
@@ -157,20 +200,21 @@ class Builder {
     return {cluster(c.begin, mid), cluster(mid, c.end)};
   }
 
-  // One pass that copies each prim to the scratch array, lefts from the front and rights from
-  // the back, growing each side's centre bounds, then a copy back. Branch-free: which side a
-  // sphere goes is a coin toss, and a branch on it would mispredict half the time.
+  // Partitions [begin, end) in place, lefts first, in one branch-free pass (which side a
+  // sphere goes is a coin toss: a branch on it would mispredict half the time): every prim
+  // swaps with the first right so far, which moves on past it if it goes left. The lefts keep
+  // their order; the order the rights end in is a function of the range alone. Grows each
+  // side's centre bounds, and returns where the rights start.
   template <class Left>
-  std::size_t partition_serial(const Cluster& c, const Left& goes_left, Box& left_centroids,
-                               Box& right_centroids) {
+  std::size_t partition_serial(std::size_t begin, std::size_t end, const Left& goes_left,
+                               Box& left_centroids, Box& right_centroids) {
     Lanes left_lo(kInf), left_hi(-kInf), right_lo(kInf), right_hi(-kInf);
-    std::size_t l = c.begin, r = c.end;
-    for (std::size_t i = c.begin; i < c.end; ++i) {
+    std::size_t l = begin;
+    for (std::size_t i = begin; i < end; ++i) {
       const Lanes centre = p_[i].centre();
       const bool left = goes_left(centre);
-      p_.copy(i, scratch_, left ? l : r - 1);
+      p_.swap(i, l);
       l += left;
-      r -= !left;
       const xsimd::batch_bool<float, xsimd::default_arch> to_left(left);
       left_lo = xsimd::select(to_left, xsimd::min(left_lo, centre), left_lo);
       left_hi = xsimd::select(to_left, xsimd::max(left_hi, centre), left_hi);
@@ -179,61 +223,50 @@ class Builder {
     }
     left_centroids.grow(left_lo, left_hi);
     right_centroids.grow(right_lo, right_hi);
-    copy_back(c.begin, c.end);
     return l;
   }
 
-  // The scratch array's [begin, end) back to the prims.
-  void copy_back(std::size_t begin, std::size_t end) {
-    std::copy(&scratch_[begin], &scratch_[end], &p_[begin]);
-    std::copy(&scratch_.ids[begin], &scratch_.ids[end], &p_.ids[begin]);
-  }
-
-  // A stable partition over fixed blocks: note each prim's side and count each block's, then
-  // copy every prim to its place in the scratch array, and back. The same order whatever the
-  // thread count.
+  // The same in place in parallel, over fixed blocks so that the order is the same whatever
+  // the thread count: each block partitions itself, then the rights left in front of the
+  // split and the lefts behind it, as many of each, swap in pairs, the k-th with the k-th.
+  // No scratch copy of the prims: it would have been the build's largest array after them
+  // (issue 34).
   template <class Left>
   std::size_t partition_parallel(const Cluster& c, const Left& goes_left, Box& left_centroids,
                                  Box& right_centroids) {
     struct Block {
-      std::size_t left = 0;
+      std::size_t begin, end, rights_begin;  // after its own partition
       Box left_centroids, right_centroids;
     };
     const std::size_t blocks = (c.size() + block_ - 1) / block_;
-    const auto block_begin = [&](std::size_t b) { return c.begin + b * block_; };
-    const auto block_end = [&](std::size_t b) {
-      return std::min(c.begin + (b + 1) * block_, c.end);
-    };
     std::vector<Block> info(blocks);
     parallel_for(blocks, 1, [&](std::size_t b) {
       Block& k = info[b];
-      for (std::size_t i = block_begin(b); i < block_end(b); ++i) {
-        const Lanes centre = p_[i].centre();
-        const bool left = goes_left(centre);
-        left_side_[i] = left;
-        k.left += left;
-        (left ? k.left_centroids : k.right_centroids).grow(centre);
-      }
+      k.begin = c.begin + b * block_;
+      k.end = std::min(k.begin + block_, c.end);
+      k.rights_begin =
+          partition_serial(k.begin, k.end, goes_left, k.left_centroids, k.right_centroids);
     });
-    std::vector<std::size_t> left_at(blocks), right_at(blocks);
-    std::size_t lefts = 0;
-    for (std::size_t b = 0; b < blocks; ++b) {
-      left_at[b] = lefts;
-      lefts += info[b].left;
-      left_centroids.grow(info[b].left_centroids);
-      right_centroids.grow(info[b].right_centroids);
+    std::size_t mid = c.begin;
+    for (const Block& k : info) {
+      mid += k.rights_begin - k.begin;
+      left_centroids.grow(k.left_centroids);
+      right_centroids.grow(k.right_centroids);
     }
-    for (std::size_t b = 0, rights = 0; b < blocks; ++b) {
-      right_at[b] = lefts + rights;
-      rights += (block_end(b) - block_begin(b)) - info[b].left;
+    // Misplaced: each block's rights before mid, and its lefts from mid on.
+    Runs rights_in_front, lefts_behind;
+    for (const Block& k : info) {
+      rights_in_front.add(k.rights_begin, std::min(k.end, mid));
+      lefts_behind.add(std::max(k.begin, mid), k.rights_begin);
     }
-    parallel_for(blocks, 1, [&](std::size_t b) {
-      std::size_t l = c.begin + left_at[b], r = c.begin + right_at[b];
-      for (std::size_t i = block_begin(b); i < block_end(b); ++i)
-        p_.copy(i, scratch_, left_side_[i] ? l++ : r++);
+    const std::size_t misplaced = rights_in_front.total();
+    parallel_for((misplaced + block_ - 1) / block_, 1, [&](std::size_t b) {
+      const std::size_t first = b * block_, last = std::min(first + block_, misplaced);
+      Runs::Cursor front = rights_in_front.at(first), back = lefts_behind.at(first);
+      for (std::size_t k = first; k < last; ++k)
+        p_.swap(front.next(), back.next());
     });
-    parallel_for(blocks, 1, [&](std::size_t b) { copy_back(block_begin(b), block_end(b)); });
-    return c.begin + lefts;
+    return mid;
   }
 
   // Cost of a side: its area times its leaf batches. A leaf of W spheres costs what a leaf of
@@ -255,16 +288,18 @@ class Builder {
     }
     const Binning binning{Lanes::load_aligned(origin), Lanes::load_aligned(scale),
                           Lanes(static_cast<float>(Count - 1))};
+    // A large range bins an evenly spaced sample of its spheres (kBinSamples).
+    const std::size_t stride = std::max<std::size_t>(c.size() / kBinSamples, 1);
     const Bins bins = reduce_range(
-        c.begin, c.end, parallel_min_, block_, Bins{},
-        [&](Bins& b, std::size_t i) {
-          const Prim& p = p_[i];
-          alignas(16) std::int32_t index[4];
-          binning.bins(p.centre()).store_aligned(index);
+        0, c.size() / stride, parallel_min_, block_, Bins{},
+        [&](Bins& b, std::size_t j) {
+          const Prim& p = p_[c.begin + j * stride];
+          const LaneInts index = binning.bins(p.centre());
           const auto [lo, hi] = p.bounds();
+          // An axis not binned (scale 0) has every sphere in bin 0, which is never read: no
+          // branch in the loop.
           for (int k = 0; k < 3; ++k) {
-            if (scale[k] == 0.0f) continue;
-            Bin& bin = b[k][static_cast<std::size_t>(index[k])];
+            Bin& bin = b[k][static_cast<std::size_t>(index.get(static_cast<std::size_t>(k)))];
             bin.box.grow(lo, hi);
             ++bin.count;
           }
@@ -293,7 +328,7 @@ class Builder {
             side_cost(left.box, left.count) + side_cost(right[i].box, right[i].count);
         if (cost < best_cost) {
           best_cost = cost;
-          best = {k, static_cast<std::int32_t>(i), binning, left, right[i]};
+          best = {k, static_cast<std::int32_t>(i), binning, left, right[i], stride > 1};
         }
       }
     }
@@ -302,9 +337,9 @@ class Builder {
 
   // Splits at the median centre along the widest centroid axis, rounded to whole batches on
   // the left; ties on the centre go by id, so the order is a function of the set alone. What
-  // nth_element orders is the range's positions (in the scratch ids), not the prims and their
-  // ids, two arrays; both are then gathered in that order, which is the order nth_element
-  // would have left the prims in.
+  // nth_element orders is the range's positions, not the prims and their ids, two arrays;
+  // both are then permuted in place into that order (following each cycle of the
+  // permutation), which is the order nth_element would have left the prims in.
   std::size_t median_split(const Cluster& c) {
     int axis = 0;
     float widest = -1.0f;
@@ -320,23 +355,41 @@ class Builder {
     if (left >= n) left = n / 2;
     const Prim* prims = &p_[c.begin];
     const std::uint32_t* ids = &p_.ids[c.begin];
-    std::uint32_t* order = &scratch_.ids[c.begin];
-    std::iota(order, order + n, 0u);
-    std::nth_element(order, order + left, order + n, [&](std::uint32_t a, std::uint32_t b) {
-      const float ca = prims[a].sphere[axis], cb = prims[b].sphere[axis];
-      return ca < cb || (ca == cb && ids[a] < ids[b]);
-    });
-    // Element j's position is read before its id overwrites it.
-    for (std::size_t j = 0; j < n; ++j)
-      p_.copy(c.begin + order[j], scratch_, c.begin + j);
-    copy_back(c.begin, c.end);
+    std::vector<std::uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::nth_element(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(left), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) {
+                       const float ca = prims[a].sphere[axis], cb = prims[b].sphere[axis];
+                       return ca < cb || (ca == cb && ids[a] < ids[b]);
+                     });
+    permute(c.begin, order);
     return c.begin + left;
+  }
+
+  // Moves the prim at begin + order[j] to begin + j for every j, in place; order ends as the
+  // identity.
+  void permute(std::size_t begin, std::vector<std::uint32_t>& order) {
+    for (std::size_t start = 0; start < order.size(); ++start) {
+      if (order[start] == start) continue;
+      // The cycle through start: each place takes the prim of the next, the last start's.
+      const Prim held = p_[begin + start];
+      const std::uint32_t held_id = p_.ids[begin + start];
+      std::size_t j = start;
+      while (order[j] != start) {
+        const std::size_t from = order[j];
+        p_[begin + j] = p_[begin + from];
+        p_.ids[begin + j] = p_.ids[begin + from];
+        order[j] = static_cast<std::uint32_t>(j);
+        j = from;
+      }
+      p_[begin + j] = held;
+      p_.ids[begin + j] = held_id;
+      order[j] = static_cast<std::uint32_t>(j);
+    }
   }
 
   Prims& p_;
   ProgressCount& progress_;
-  Prims scratch_;
-  std::vector<std::uint8_t> left_side_;  // per prim, in the parallel partition
   std::size_t width_;
   std::size_t parallel_min_;
   std::size_t block_;

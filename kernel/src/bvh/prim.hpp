@@ -111,10 +111,10 @@ struct Prims {
   }
   Prim& operator[](std::size_t i) { return data[i]; }
   const Prim& operator[](std::size_t i) const { return data[i]; }
-  // Element from of this to element at of to.
-  void copy(std::size_t from, Prims& to, std::size_t at) const {
-    to.data[at] = data[from];
-    to.ids[at] = ids[from];
+  // Swaps elements a and b (which may be the same), prim and id.
+  void swap(std::size_t a, std::size_t b) {
+    std::swap(data[a], data[b]);
+    std::swap(ids[a], ids[b]);
   }
   std::unique_ptr<Prim[]> data;
   std::unique_ptr<std::uint32_t[]> ids;

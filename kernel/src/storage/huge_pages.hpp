@@ -1,4 +1,4 @@
-// Large arrays on huge pages where the system allows it.
+// Large arrays on huge pages where the system allows it, and given back page by page once read.
 //
 // A 100-million-sphere scene fills its arrays (1.6 GB of spheres, as much again for the build's
 // records and the tree) page by page; with 4 KiB pages that is one page fault per 4 KiB, and the
@@ -13,6 +13,7 @@
 
 #if defined(__linux__)
 #include <sys/mman.h>
+#include <unistd.h>
 #endif
 
 namespace sphray::detail {
@@ -26,6 +27,23 @@ inline void prefer_huge_pages(void* data, std::size_t bytes) {
   const std::uintptr_t last = (begin + bytes) & ~(kHuge - 1);
   // Advice only: a refusal (no THP, a kernel without it) leaves ordinary pages.
   if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+
+// Gives the whole pages inside [data, data + bytes) back to the system while the array lives on:
+// for an array read once from front to back that would otherwise hold its memory until its last
+// element is read (the tree build's records while the tree's slots are written, issue 34). The
+// pages' contents are lost; the caller never reads them again. Elsewhere it does nothing.
+inline void release_pages(const void* data, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_DONTNEED)
+  const auto kPage = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+  const auto begin = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t first = (begin + kPage - 1) & ~(kPage - 1);
+  const std::uintptr_t last = (begin + bytes) & ~(kPage - 1);
+  if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
 #else
   (void)data;
   (void)bytes;
