@@ -53,7 +53,7 @@ def test_render_takes_a_scene_file_as_path(tmp_path):
                      ' "spheres": [{"center": [0, 0, -1], "radius": 0.5, "color": [1, 0, 0]}]}')
     from_path = sphray.render(scene, mode="flat", width=32, height=18, spp=1)
     assert (from_path == sphray.render(str(scene), mode="flat", width=32, height=18, spp=1)).all()
-    # flat mode: the sphere red (255, 0, 0) in the middle, sky at the corners
+    # flat mode: the sphere's colour, red (255, 0, 0), in the middle, sky at the corners
     assert tuple(from_path[9, 16]) == (255, 0, 0) and tuple(from_path[0, 0]) != (255, 0, 0)
 
 
@@ -128,10 +128,11 @@ def test_render_frames_own_spheres_without_a_camera(rng):
     centers, radii, _ = own_spheres(rng)
     centers += np.float32([100, -50, 20])   # far from the default camera's view
     image = sphray.render((centers, radii), mode="flat", width=96, height=54, spp=1)
-    red = np.all(image == [255, 0, 0], axis=2)
-    assert red.sum() > 0.05 * red.size       # the spheres fill a good part of the image
-    assert not red[0].any() and not red[-1].any()   # and all of them fit: sky above and below
-    assert not red[:, 0].any() and not red[:, -1].any()
+    # Without colours every sphere is grey 0.5, int(255.999 * 0.5) = 127; the sky's blue is 255.
+    grey = np.all(image == [127, 127, 127], axis=2)
+    assert grey.sum() > 0.05 * grey.size     # the spheres fill a good part of the image
+    assert not grey[0].any() and not grey[-1].any()   # and all of them fit: sky above and below
+    assert not grey[:, 0].any() and not grey[:, -1].any()
 
 
 def test_render_linear_is_the_radiance_the_bytes_encode(rng):

@@ -88,7 +88,7 @@ class Shader {
       case Mode::normals:
         return 0.5f * (surface(view_, ray, hit).normal + Vec3{1, 1, 1});
       case Mode::flat:
-        return {1, 0, 0};
+        return color_of(scene_, hit.id);  // unshaded; grey without colours
       case Mode::depth: {
         float grey = depth_scale_ / (depth_scale_ + hit.t * length(ray.dir));
         return {grey, grey, grey};

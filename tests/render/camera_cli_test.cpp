@@ -82,8 +82,9 @@ std::pair<double, double> project(double px, double py, double pz, double distan
 }
 
 TEST_F(CameraCli, AMovedCameraPutsASphereWhereThePinholeModelSays) {
-  // One sphere off the axis; the particle file's own framing looks straight at it.
-  write_text(path("one.xyz"), "0.5 0.25 0 0.2\n");
+  // One red sphere off the axis (flat mode paints it its colour); the particle file's own
+  // framing looks straight at it.
+  write_text(path("one.xyz"), "0.5 0.25 0 0.2 1 0 0\n");
   const std::string base = "-s " + path("one.xyz") + " -m flat --spp 1 -W 101 -H 101";
   render(base, "framed.png");
   render(base + " --lookfrom 0,0,10 --lookat 0,0,0 --vfov 20", "moved.png");

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
+#include <utility>
 
 #include "sphray/render/renderer.hpp"
 
@@ -90,7 +92,8 @@ TEST(Render, SingleNormalAwayFromTheCentre) {
   expect_rgb(pixel(image, x, y), 0.5 * (n[0] + 1), 0.5 * (n[1] + 1), 0.5 * (n[2] + 1));
 }
 
-// Every pixel clearly inside the disc is red, every one clearly outside is sky.
+// Every pixel clearly inside the disc is the sphere's colour, single's red (1, 0, 0), every one
+// clearly outside is sky.
 TEST(Render, FlatIsRedOnTheSphereAndSkyElsewhere) {
   int w = 160, h = 90;
   Image image = render(make_preset("single"), options(Mode::flat, w, h));
@@ -110,6 +113,41 @@ TEST(Render, FlatIsRedOnTheSphereAndSkyElsewhere) {
   }
   EXPECT_GT(red, 1000);
   EXPECT_GT(sky, 5000);
+}
+
+// The pixel that the point p projects to through the `three` preset's camera (lookfrom
+// (0.5, 1.5, 7), lookat (0, -0.2, 0.3), vup +y, vfov 32): the book's frame (w back, u right,
+// v up) and a viewport at distance 1, 2 tan(16 degrees) high, in double.
+std::pair<int, int> three_pixel(Dir p, int width, int height) {
+  auto sub = [](Dir a, Dir b) { return Dir{a.x - b.x, a.y - b.y, a.z - b.z}; };
+  auto dot = [](Dir a, Dir b) { return a.x * b.x + a.y * b.y + a.z * b.z; };
+  auto cross = [](Dir a, Dir b) {
+    return Dir{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+  };
+  auto unit = [&](Dir a) {
+    double l = std::sqrt(dot(a, a));
+    return Dir{a.x / l, a.y / l, a.z / l};
+  };
+  const Dir from{0.5, 1.5, 7}, at{0, -0.2, 0.3};
+  const Dir w = unit(sub(from, at)), u = unit(cross(Dir{0, 1, 0}, w)), v = cross(w, u);
+  const Dir d = sub(p, from);
+  const double scale = height / (2 * std::tan(16 * std::numbers::pi / 180) * -dot(d, w));
+  return {static_cast<int>(width / 2.0 + dot(d, u) * scale),
+          static_cast<int>(height / 2.0 - dot(d, v) * scale)};
+}
+
+// Flat: each hit is its own sphere's colour, unshaded. The pixel of each of `three`'s centres
+// (presets.cpp: red, blue, green) is that sphere's colour exactly.
+TEST(Render, FlatPaintsEachSphereItsOwnColour) {
+  const int w = 160, h = 90;
+  Image image = render(make_preset("three"), options(Mode::flat, w, h));
+  const Dir centres[3] = {{0, 0, 0}, {-2.2, -0.3, 0.5}, {2, -0.5, 1}};
+  const double colours[3][3] = {{0.9, 0.15, 0.1}, {0.15, 0.3, 0.9}, {0.15, 0.8, 0.2}};
+  for (int k = 0; k < 3; ++k) {
+    SCOPED_TRACE(k);
+    auto [x, y] = three_pixel(centres[k], w, h);
+    expect_rgb(pixel(image, x, y), colours[k][0], colours[k][1], colours[k][2], 0);
+  }
 }
 
 // The centre ray hits at distance 0.5; the camera is 1 from what it looks at: 1 / (1 + 0.5).
