@@ -177,52 +177,86 @@ class Builder {
       const Split s =
           c.size() < kFewBinsBelow ? best_sah_split<kFewBins>(c) : best_sah_split<kBins>(c);
       if (s.axis >= 0) {
-        const auto goes_left = [&s](const Lanes& centre) {
-          alignas(16) std::int32_t bins[4];
-          s.binning.bins(centre).store_aligned(bins);
-          return bins[s.axis] <= s.bin;
-        };
-        Box left_centroids, right_centroids;
+        // The bins already hold both sides' boxes, unless they saw only a sample: then the
+        // partition finds them.
+        Sides sides;
         const std::size_t mid =
-            c.size() >= parallel_min_
-                ? partition_parallel(c, goes_left, left_centroids, right_centroids)
-                : partition_serial(c.begin, c.end, goes_left, left_centroids, right_centroids);
-        // The bins already hold both sides' boxes, unless they saw only a sample: then one
-        // pass finds them.
+            s.sampled ? partition<true>(c, s, sides) : partition<false>(c, s, sides);
         if (s.sampled && mid > c.begin && mid < c.end)
-          return {cluster(c.begin, mid), cluster(mid, c.end)};
+          return {{c.begin, mid, sides.left.box, sides.left.centroids},
+                  {mid, c.end, sides.right.box, sides.right.centroids}};
         if (!s.sampled && mid == c.begin + s.left.count)
-          return {{c.begin, mid, s.left.box, left_centroids},
-                  {mid, c.end, s.right.box, right_centroids}};
+          return {{c.begin, mid, s.left.box, sides.left.centroids},
+                  {mid, c.end, s.right.box, sides.right.centroids}};
       }
     }
     const std::size_t mid = median_split(c);
     return {cluster(c.begin, mid), cluster(mid, c.end)};
   }
 
+  // What a partition learns of each side as it reads the prims: its centres' bounds and, when
+  // asked (Boxed), its box.
+  struct Side {
+    Box box, centroids;
+    void grow(const Side& s) {
+      box.grow(s.box);
+      centroids.grow(s.centroids);
+    }
+  };
+  struct Sides {
+    Side left, right;
+    void grow(const Sides& s) {
+      left.grow(s.left);
+      right.grow(s.right);
+    }
+  };
+
+  // Whether the prim with this centre goes left of split s: its bin on s's axis is at most
+  // s.bin, as Binning::bins() would compute it (the same two operations on the same lane; the
+  // clamp to the last bin cannot move a bin across s.bin, and a NaN goes to bin 0), without
+  // the other axes.
+  static bool goes_left(const Prim& p, const Split& s) {
+    const float b = (p.sphere[s.axis] - s.binning.origin.get(static_cast<std::size_t>(s.axis))) *
+                    s.binning.scale.get(static_cast<std::size_t>(s.axis));
+    return !(b >= static_cast<float>(s.bin + 1));
+  }
+
+  template <bool Boxed>
+  std::size_t partition(const Cluster& c, const Split& s, Sides& sides) {
+    if (c.size() >= parallel_min_) return partition_parallel<Boxed>(c, s, sides);
+    return partition_serial<Boxed>(c.begin, c.end, s, sides);
+  }
+
   // Partitions [begin, end) in place, lefts first, in one branch-free pass (which side a
   // sphere goes is a coin toss: a branch on it would mispredict half the time): every prim
   // swaps with the first right so far, which moves on past it if it goes left. The lefts keep
-  // their order; the order the rights end in is a function of the range alone. Grows each
-  // side's centre bounds, and returns where the rights start.
-  template <class Left>
-  std::size_t partition_serial(std::size_t begin, std::size_t end, const Left& goes_left,
-                               Box& left_centroids, Box& right_centroids) {
-    Lanes left_lo(kInf), left_hi(-kInf), right_lo(kInf), right_hi(-kInf);
+  // their order; the order the rights end in is a function of the range alone. Returns where
+  // the rights start.
+  template <bool Boxed>
+  std::size_t partition_serial(std::size_t begin, std::size_t end, const Split& s, Sides& sides) {
+    BoxLanes left_centroids, right_centroids, left_box, right_box;
     std::size_t l = begin;
     for (std::size_t i = begin; i < end; ++i) {
-      const Lanes centre = p_[i].centre();
-      const bool left = goes_left(centre);
+      const Prim prim = p_[i];
+      const bool to_left = goes_left(prim, s);
       p_.swap(i, l);
-      l += left;
-      const xsimd::batch_bool<float, xsimd::default_arch> to_left(left);
-      left_lo = xsimd::select(to_left, xsimd::min(left_lo, centre), left_lo);
-      left_hi = xsimd::select(to_left, xsimd::max(left_hi, centre), left_hi);
-      right_lo = xsimd::select(to_left, right_lo, xsimd::min(right_lo, centre));
-      right_hi = xsimd::select(to_left, right_hi, xsimd::max(right_hi, centre));
+      l += to_left;
+      const LaneMask mask(to_left);
+      const Lanes centre = prim.centre();
+      left_centroids.grow_if(mask, centre, centre);
+      right_centroids.grow_if(!mask, centre, centre);
+      if constexpr (Boxed) {
+        const auto [lo, hi] = prim.bounds();
+        left_box.grow_if(mask, lo, hi);
+        right_box.grow_if(!mask, lo, hi);
+      }
     }
-    left_centroids.grow(left_lo, left_hi);
-    right_centroids.grow(right_lo, right_hi);
+    left_centroids.grow(sides.left.centroids);
+    right_centroids.grow(sides.right.centroids);
+    if constexpr (Boxed) {
+      left_box.grow(sides.left.box);
+      right_box.grow(sides.right.box);
+    }
     return l;
   }
 
@@ -231,12 +265,11 @@ class Builder {
   // split and the lefts behind it, as many of each, swap in pairs, the k-th with the k-th.
   // No scratch copy of the prims: it would have been the build's largest array after them
   // (issue 34).
-  template <class Left>
-  std::size_t partition_parallel(const Cluster& c, const Left& goes_left, Box& left_centroids,
-                                 Box& right_centroids) {
+  template <bool Boxed>
+  std::size_t partition_parallel(const Cluster& c, const Split& s, Sides& sides) {
     struct Block {
       std::size_t begin, end, rights_begin;  // after its own partition
-      Box left_centroids, right_centroids;
+      Sides sides;
     };
     const std::size_t blocks = (c.size() + block_ - 1) / block_;
     std::vector<Block> info(blocks);
@@ -244,14 +277,12 @@ class Builder {
       Block& k = info[b];
       k.begin = c.begin + b * block_;
       k.end = std::min(k.begin + block_, c.end);
-      k.rights_begin =
-          partition_serial(k.begin, k.end, goes_left, k.left_centroids, k.right_centroids);
+      k.rights_begin = partition_serial<Boxed>(k.begin, k.end, s, k.sides);
     });
     std::size_t mid = c.begin;
     for (const Block& k : info) {
       mid += k.rights_begin - k.begin;
-      left_centroids.grow(k.left_centroids);
-      right_centroids.grow(k.right_centroids);
+      sides.grow(k.sides);
     }
     // Misplaced: each block's rights before mid, and its lefts from mid on.
     Runs rights_in_front, lefts_behind;

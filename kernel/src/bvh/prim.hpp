@@ -62,6 +62,20 @@ struct alignas(16) Box {
   }
 };
 
+// A box in registers, grown only in the lanes a mask selects: a partition's side, grown
+// without a branch.
+using LaneMask = xsimd::batch_bool<float, xsimd::default_arch>;
+struct BoxLanes {
+  Lanes lo = Lanes(kInf), hi = Lanes(-kInf);
+
+  void grow_if(const LaneMask& mask, const Lanes& l, const Lanes& h) {
+    lo = xsimd::select(mask, xsimd::min(lo, l), lo);
+    hi = xsimd::select(mask, xsimd::max(hi, h), hi);
+  }
+  // Grows box by this.
+  void grow(Box& box) const { box.grow(lo, hi); }
+};
+
 // Half the side of a sphere's box on one axis: the radius, widened by 2^-20 of the
 // coordinate's magnitude. That is more than the rounding of c -+ e, and enough to hold a grazing
 // hit that the kernel's own rounding puts just outside the exact sphere. Per lane: r holds the
