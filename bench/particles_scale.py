@@ -83,12 +83,13 @@ def short(n):
     return "%dM" % (n // 1000000) if n % 1000000 == 0 else str(n)
 
 
-def table(results, threads):
+def table(results, threads, baseline_mb):
     lines = [
         "| spheres | read (GB/s) | tree build, %d threads (ns per sphere) | tree bytes per sphere "
         "| rtcCommitScene, %d threads (ns per sphere) | Embree bytes per sphere | build / Embree's "
-        "| first image: scene, tree, render, write | peak memory (bytes per sphere) |" % (threads, threads),
-        "|---|---|---|---|---|---|---|---|---|"]
+        "| first image: scene, tree, render, write | peak memory (bytes per sphere) "
+        "| peak over the one-sphere render (bytes per sphere) |" % (threads, threads),
+        "|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
         n, rows, p = r["spheres"], r["rows"], r["render"]
         read = rows["particles/read"]
@@ -98,24 +99,29 @@ def table(results, threads):
         e = seconds(emb) if emb else None
         lines.append(
             "| %s | %.3f s (%.2f) | %.2f s (%.0f) | %.1f | %s | %s | %s | %.1f s: %.2f, %.2f, %.2f, %.2f s "
-            "| %.2f GB (%.1f) |" % (
+            "| %.2f GB (%.1f) | %.1f |" % (
                 short(n), seconds(read), read["bytes_per_second"] / 1e9, t, t / n * 1e9,
                 tree["bytes_per_sphere"],
                 "%.2f s (%.0f)" % (e, e / n * 1e9) if e else "-",
                 "%.1f" % emb["bytes_per_sphere"] if emb else "-",
                 "%.2fx" % (t / e) if e else "-",
                 p["first"], p["scene"], p["tree"], p["render"], p["write"],
-                p["mb"] / 1e3, p["mb"] * 1e6 / n))
+                p["mb"] / 1e3, p["mb"] * 1e6 / n, per_sphere_over_baseline(r, baseline_mb) + 16))
     return "\n".join(lines)
 
 
-def goals(results, threads):
+def per_sphere_over_baseline(r, baseline_mb):
+    """Peak bytes per sphere above the same render of a one-sphere file, less the file's 16."""
+    return (r["render"]["mb"] - baseline_mb) * 1e6 / r["spheres"] - 16
+
+
+def goals(results, threads, baseline_mb):
     out = []
     first, last = results[0], results[-1]
     for r in results:
-        over = r["render"]["mb"] * 1e6 / r["spheres"] - 16
-        out.append("- peak memory over the file's 16 bytes, %s: %.1f bytes per sphere (goal <= 48): %s"
-                   % (short(r["spheres"]), over, "met" if over <= 48 else "missed"))
+        over = per_sphere_over_baseline(r, baseline_mb)
+        out.append("- peak memory per sphere over the file's 16 bytes, %s: %.1f bytes (goal <= 48): "
+                   "%s" % (short(r["spheres"]), over, "met" if over <= 48 else "missed"))
     key = "particles/build/bvh/threads:%d" % threads
     per = [seconds(r["rows"][key]) / r["spheres"] for r in results]
     ratio = per[-1] / per[0]
@@ -143,7 +149,7 @@ INTRO = """Issue 34: from a particle file on disk to the first image, for 1M, 10
 density at every size) in `.sphp` files of 16 bytes a sphere. The render is `sphray render -m
 normals`, 1920x1080, one sample per pixel, on every core; its second summary line gives each
 phase and the peak resident memory of the whole process (the spheres, the tree, the build's
-scratch, the image). Read and build times are `sphray_bench_particles` on the same file, in
+records, the image). Read and build times are `sphray_bench_particles` on the same file, in
 another process: the read into a `SphereSoA` (the library's `pread`, and a memory map beside it
 for comparison), sphray's tree build and Embree's `rtcCommitScene` (its `bytes_per_sphere` from
 Embree's own memory monitor, the spheres' buffer included) on the same spheres. Regenerate this
@@ -151,7 +157,7 @@ section with `bench/particles_scale.py --write-docs` (the commands below); `benc
 as it stands."""
 
 
-def section(results, threads, load, when):
+def section(results, threads, load, when, baseline_mb):
     def shown(command):  # the file by its name, wherever --dir put it
         return re.sub(r"[^ =]*/(cloud\d+\.sphp)", r"\1", command)
 
@@ -160,7 +166,11 @@ def section(results, threads, load, when):
         "Measured %s on the machine above, load average %s at the end. Commands, per size (the "
         "files written by `bench/make_cloud.py N cloudN.sphp`): `%s`, `%s`." % (when, ", ".join(load), shown(results[0]["render_command"]),
                                  shown(results[0]["bench_command"])),
-        "", table(results, threads), "", goals(results, threads)])
+        "", "The same render of a one-sphere file peaks at %.1f MB (the program, its libraries, "
+        "the 1920x1080 image and its PNG): the last column is the peak above that, per sphere, "
+        "which is what the spheres cost (at 1M the fixed part is a large share of the raw figure)."
+        % baseline_mb,
+        "", table(results, threads, baseline_mb), "", goals(results, threads, baseline_mb)])
 
 
 def main():
@@ -180,15 +190,18 @@ def main():
         with open(args.from_json) as f:
             saved = json.load(f)
         results, load = saved["results"], saved["load_average"]
+        baseline_mb = saved["baseline_mb"]
         when = saved.get("date", time.strftime("%Y-%m-%d"))
     else:
-        results, load = measure_all(args), loadavg()
+        results, baseline_mb = measure_all(args)
+        load = loadavg()
         when = time.strftime("%Y-%m-%d")
-    text = section(results, args.threads, load, when)
+    text = section(results, args.threads, load, when, baseline_mb)
     print(text)
     if args.out:
         with open(args.out, "w") as f:
-            json.dump({"load_average": load, "date": when, "results": results}, f, indent=1)
+            json.dump({"load_average": load, "date": when, "baseline_mb": baseline_mb,
+                       "results": results}, f, indent=1)
     if args.write_docs:
         from report import update_section  # needs matplotlib, only here
         update_section(Path(ROOT) / "docs", HEADING, text, before="## The Python module against numpy")
@@ -201,6 +214,9 @@ def loadavg():
 
 def measure_all(args):
     os.makedirs(args.dir, exist_ok=True)
+    one = os.path.join(args.dir, "cloud1.sphp")
+    make_cloud.write_cloud(1, one, seed=1)
+    baseline_mb = render(args.sphray, one, os.path.join(args.dir, "cloud1.png"))[0]["mb"]
     results = []
     for n in args.sizes:
         # The render holds the spheres and a tree; the bench holds them, sphray's tree and
@@ -214,7 +230,7 @@ def measure_all(args):
         print("measured %d spheres in %.0f s" % (n, time.time() - start), file=sys.stderr)
     if not results:
         sys.exit("nothing measured")
-    return results
+    return results, baseline_mb
 
 
 if __name__ == "__main__":
