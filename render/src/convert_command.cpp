@@ -7,22 +7,13 @@
 #include <new>
 
 #include "atomic_output.hpp"
+#include "command_failure.hpp"
 #include "progress_report.hpp"
 #include "sphray/particles/particles.hpp"
 #include "sphray/render/image_file.hpp"
 #include "sphray/render/scene.hpp"
 
 namespace sphray::render::convert {
-namespace {
-
-constexpr int kExitIo = 1;
-constexpr int kExitUsage = 2;
-
-void report(const std::string& message) {
-  std::fprintf(stderr, "sphray: %s\n", message.c_str());
-}
-
-}  // namespace
 
 void add_convert_options(CLI::App& convert, ConvertArgs& args) {
   convert
@@ -68,21 +59,8 @@ int run_convert(const ConvertArgs& args) {
                   input.spheres.size(), static_cast<unsigned long long>(bytes), seconds.count());
     }
     return 0;
-  } catch (const SceneError& e) {
-    report(e.what());
-    return kExitUsage;
-  } catch (const particles::ParticleError& e) {
-    report(e.what());
-    return kExitUsage;
-  } catch (const std::invalid_argument& e) {  // OutputRefused among them
-    report(e.what());
-    return kExitUsage;
-  } catch (const IoError& e) {
-    report(e.what());
-    return kExitIo;
-  } catch (const std::bad_alloc&) {
-    report(args.input + ": out of memory while converting");
-    return kExitIo;
+  } catch (...) {
+    return report_failure(args.input + ": out of memory while converting");
   }
 }
 

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "bench_command.hpp"
+#include "command_failure.hpp"
 #include "convert_command.hpp"
 #include "progress_report.hpp"
 #include "render_args.hpp"
@@ -30,13 +31,6 @@
 namespace {
 
 using namespace sphray::render;
-
-constexpr int kExitIo = 1;
-constexpr int kExitUsage = 2;
-
-void report(const std::string& message) {
-  std::fprintf(stderr, "sphray: %s\n", message.c_str());
-}
 
 // Standard output is flushed and checked before the exit status is decided: `sphray scenes >
 // /dev/full` or a closed stdout is a failed run, not a silent success.
@@ -209,23 +203,10 @@ int run_render(const RenderArgs& args) {
       print_phases(stats, phases, total);
     }
     return 0;
-  } catch (const SceneError& e) {
-    report(e.what());
-    return kExitUsage;
-  } catch (const std::invalid_argument& e) {  // OutputRefused among them
-    report(e.what());
-    return kExitUsage;
-  } catch (const IoError& e) {
-    report(e.what());
-    return kExitIo;
-  } catch (const InsufficientMemory& e) {
-    report(e.what());
-    return kExitIo;
-  } catch (const std::bad_alloc&) {
+  } catch (...) {
     // The estimate leaves headroom, but a scene of millions of spheres or another process can
     // still take what was there; the pending file is gone by now (its destructor ran).
-    report(args.scene + ": out of memory while building or rendering the scene");
-    return kExitIo;
+    return report_failure(args.scene + ": out of memory while building or rendering the scene");
   }
 }
 
