@@ -3,10 +3,7 @@
 // every one into its status code.
 #pragma once
 
-#include <exception>
-#include <new>
-#include <stdexcept>
-
+#include "c_api/exception_status.hpp"
 #include "sphray/sphray.h"
 
 namespace sphray::c_api {
@@ -19,24 +16,14 @@ int fail(int status, const char* function, const char* what) noexcept;
 /// The calling thread's message ("" before the first failure).
 const char* last_error() noexcept;
 
-/// Runs body(), which returns a status, and maps any exception to its status and message: an
-/// allocation failure to SPHRAY_ERROR_OUT_OF_MEMORY, std::length_error (the library's "too
-/// many" error) to SPHRAY_ERROR_TOO_LARGE, std::invalid_argument to
-/// SPHRAY_ERROR_INVALID_ARGUMENT, anything else to SPHRAY_ERROR_INTERNAL.
+/// Runs body(), which returns a status, and maps any exception to its status and message
+/// (status_of_exception).
 template <class Body>
 int guarded(const char* function, Body&& body) noexcept {
   try {
     return body();
-  } catch (const std::bad_alloc&) {
-    return fail(SPHRAY_ERROR_OUT_OF_MEMORY, function, "out of memory");
-  } catch (const std::length_error& e) {
-    return fail(SPHRAY_ERROR_TOO_LARGE, function, e.what());
-  } catch (const std::invalid_argument& e) {
-    return fail(SPHRAY_ERROR_INVALID_ARGUMENT, function, e.what());
-  } catch (const std::exception& e) {
-    return fail(SPHRAY_ERROR_INTERNAL, function, e.what());
   } catch (...) {
-    return fail(SPHRAY_ERROR_INTERNAL, function, "unknown exception");
+    return status_of_exception(function, fail);
   }
 }
 

@@ -1,12 +1,10 @@
 // The C functions of sphray_particles.h over sphray::particles. Every exception is caught here
 // and becomes a status code and the calling thread's message: none crosses the C boundary.
 #include <cstdio>
-#include <exception>
 #include <memory>
-#include <new>
-#include <stdexcept>
 #include <vector>
 
+#include "c_api/exception_status.hpp"
 #include "sphray/particles/particles.hpp"
 #include "sphray/sphray_particles.h"
 
@@ -29,21 +27,16 @@ int fail(int status, const char* function, const char* what) noexcept {
   return status;
 }
 
-// Runs body(), which returns a status, and maps any exception to its status and message.
+// Runs body(), which returns a status, and maps any exception to its status and message: a
+// refused file to SPHRAY_ERROR_PARTICLE_FILE, the rest as libsphray does.
 template <class Body>
 int guarded(const char* function, Body&& body) noexcept {
   try {
     return body();
-  } catch (const std::bad_alloc&) {
-    return fail(SPHRAY_ERROR_OUT_OF_MEMORY, function, "out of memory");
   } catch (const sphray::particles::ParticleError& e) {
     return fail(SPHRAY_ERROR_PARTICLE_FILE, function, e.what());
-  } catch (const std::length_error& e) {
-    return fail(SPHRAY_ERROR_TOO_LARGE, function, e.what());
-  } catch (const std::exception& e) {
-    return fail(SPHRAY_ERROR_INTERNAL, function, e.what());
   } catch (...) {
-    return fail(SPHRAY_ERROR_INTERNAL, function, "unknown exception");
+    return sphray::c_api::status_of_exception(function, fail);
   }
 }
 
