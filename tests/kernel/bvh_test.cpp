@@ -284,6 +284,41 @@ TEST(Bvh, BuildIsTheSameWhateverTheThreadCount) {
   }
 }
 
+// A tree of millions of spheres writes its slots in stretches of 2^16 leaves, giving back the
+// pages of the build's records as it goes (build.cpp, write_leaves), after binning its top
+// levels from samples: every sphere is in exactly one slot, with its own centre and radius, and
+// every other slot is never-hit padding.
+TEST(Bvh, EverySphereOfAMillionsTreeIsInItsSlot) {
+  std::mt19937 rng(13);
+  constexpr std::size_t kCount = 2000000;
+  const std::size_t n = std::max<std::size_t>(test::scaled(kCount), 20000);
+  test::LooseSpheres scene;
+  for (std::size_t i = 0; i < n; ++i)
+    scene.add(test::random_in_box(rng, 100.0f), uniform(rng, 0.1f, 0.4f));
+  const SphereBVH bvh(scene.view());
+  const detail::BvhData& d = detail::BvhAccess::data(bvh);
+  const SphereView v = scene.view();
+  std::vector<std::uint8_t> seen(n, 0);
+  std::size_t wrong = 0, padding = 0;
+  for (std::size_t i = 0; i < d.spheres.count; ++i) {
+    const std::uint32_t id = d.ids[i];
+    if (id == kNoHit) {
+      padding += d.spheres.radius[i] == 0.0f ? 1 : 0;
+      continue;
+    }
+    ASSERT_LT(id, n);
+    ++seen[id];
+    wrong += d.spheres.cx[i] != v.cx[id] || d.spheres.cy[i] != v.cy[id] ||
+             d.spheres.cz[i] != v.cz[id] || d.spheres.radius[i] != v.radius[id];
+  }
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<std::ptrdiff_t>(n));
+  EXPECT_EQ(padding, d.spheres.count - n);  // every slot without a sphere is padding
+  if (n == kCount) {  // more leaves than one stretch
+    EXPECT_GT(d.spheres.count / d.width, std::size_t{1} << 16);
+  }
+}
+
 // The progress function sees fractions from 0 to 1 ending at 1, changes nothing in the tree,
 // and stops the build when it says so or throws; the next build is unaffected.
 TEST(Bvh, ProgressReportsAndCancelsTheBuild) {
