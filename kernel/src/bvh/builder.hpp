@@ -3,7 +3,7 @@
 // wide node by splitting its largest child until it has W (Wald, Benthin, Boulos, "Getting
 // Rid of Packets", IEEE RT 2008). Deterministic: every step is a function of its input range
 // only, the parallel reductions combine counts and min/max, which are exact in any order, and
-// the parallel partition is stable over fixed blocks. Its tree of nodes is flattened into the
+// the parallel partition works over fixed blocks. Its tree of nodes is flattened into the
 // traversal's layout by build.cpp.
 #pragma once
 
