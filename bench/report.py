@@ -1113,6 +1113,8 @@ def update_section(docs, heading, section, before=OPEN3D_BEFORE):
 ACROSS_HEADING = "## Rays across the lanes"
 # Particle files at 1M to 100M spheres: bench/particles_scale.py measures and writes it.
 PARTICLES_HEADING = "## Particles at scale"
+# Path mode against the book's way (issue 33): bench/path_vs_book.py measures and writes it.
+PATH_BOOK_HEADING = "## Path mode against the book's way"
 
 
 def kept_section(docs, heading):
@@ -1195,6 +1197,7 @@ def main(argv):
         kept_section(args.docs, ACROSS_HEADING),
         bvh_section(res),
         bounce_section(res),
+        kept_section(args.docs, PATH_BOOK_HEADING),
         queries_section(res),
         every_hit_section(res),
         build_table(res),

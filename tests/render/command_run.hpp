@@ -19,9 +19,9 @@ struct CommandResult {
   std::string out;  // stdout and stderr together
 };
 
-/// `sphray <args>` through the shell (args may quote and redirect).
-inline CommandResult run_sphray(const std::string& args) {
-  const std::string command = std::string(SPHRAY_EXE) + " " + args + " 2>&1";
+/// `<program> <args>` through the shell (args may quote and redirect).
+inline CommandResult run_program(const std::string& program, const std::string& args) {
+  const std::string command = program + " " + args + " 2>&1";
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return {-1, "popen failed"};
   std::string out;
@@ -30,6 +30,11 @@ inline CommandResult run_sphray(const std::string& args) {
     out.append(buffer, n);
   const int raw = ::pclose(pipe);
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, out};
+}
+
+/// `sphray <args>` through the shell (args may quote and redirect).
+inline CommandResult run_sphray(const std::string& args) {
+  return run_program(SPHRAY_EXE, args);
 }
 
 /// `sphray <args>` with a terminal (a pseudo-terminal) for its stdin, stdout and stderr, which
