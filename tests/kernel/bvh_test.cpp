@@ -314,7 +314,7 @@ TEST(Bvh, EverySphereOfAMillionsTreeIsInItsSlot) {
   EXPECT_EQ(wrong, 0u);
   EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<std::ptrdiff_t>(n));
   EXPECT_EQ(padding, d.spheres.count - n);  // every slot without a sphere is padding
-  if (n == kCount) {  // more leaves than one stretch
+  if (n == kCount) {                        // more leaves than one stretch
     EXPECT_GT(d.spheres.count / d.width, std::size_t{1} << 16);
   }
 }
