@@ -18,15 +18,23 @@
 
 namespace sphray::detail {
 
+#if defined(__linux__)
+// madvise(advice) on the whole pages of page_size bytes (a power of two) inside
+// [data, data + bytes); nothing when none fits. Advice only: a refusal changes nothing.
+inline void advise_whole_pages(const void* data, std::size_t bytes, std::uintptr_t page_size,
+                               int advice) {
+  const auto begin = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t first = (begin + page_size - 1) & ~(page_size - 1);
+  const std::uintptr_t last = (begin + bytes) & ~(page_size - 1);
+  if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, advice);
+}
+#endif
+
 inline void prefer_huge_pages(void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
   constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
-  if (bytes < 2 * kHuge) return;  // too small for a whole huge page inside
-  const auto begin = reinterpret_cast<std::uintptr_t>(data);
-  const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
-  const std::uintptr_t last = (begin + bytes) & ~(kHuge - 1);
-  // Advice only: a refusal (no THP, a kernel without it) leaves ordinary pages.
-  if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+  // A refusal (no THP, a kernel without it) leaves ordinary pages.
+  if (bytes >= 2 * kHuge) advise_whole_pages(data, bytes, kHuge, MADV_HUGEPAGE);
 #else
   (void)data;
   (void)bytes;
@@ -39,11 +47,8 @@ inline void prefer_huge_pages(void* data, std::size_t bytes) {
 // pages' contents are lost; the caller never reads them again. Elsewhere it does nothing.
 inline void release_pages(const void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_DONTNEED)
-  const auto kPage = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
-  const auto begin = reinterpret_cast<std::uintptr_t>(data);
-  const std::uintptr_t first = (begin + kPage - 1) & ~(kPage - 1);
-  const std::uintptr_t last = (begin + bytes) & ~(kPage - 1);
-  if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
+  advise_whole_pages(data, bytes, static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE)),
+                     MADV_DONTNEED);
 #else
   (void)data;
   (void)bytes;
