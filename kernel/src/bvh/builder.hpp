@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cassert>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -84,7 +86,10 @@ class Builder {
         progress_(progress),
         width_(width),
         parallel_min_(std::max<std::size_t>(parallel_min, 1024)),
-        block_(std::clamp<std::size_t>(parallel_min_ / 4, 256, kBlock)) {}
+        block_(std::clamp<std::size_t>(parallel_min_ / 4, 256, kBlock)),
+        width_shift_(static_cast<unsigned>(std::countr_zero(width))) {
+    assert(std::has_single_bit(width));
+  }
 
   struct Node {
     // A child keeps its range and box, not its centre bounds, which only its own build reads:
@@ -211,15 +216,21 @@ class Builder {
     }
   };
 
-  // Whether the prim with this centre goes left of split s: its bin on s's axis is at most
-  // s.bin, as Binning::bins() would compute it (the same two operations on the same lane; the
-  // clamp to the last bin cannot move a bin across s.bin, and a NaN goes to bin 0), without
-  // the other axes.
-  static bool goes_left(const Prim& p, const Split& s) {
-    const float b = (p.sphere[s.axis] - s.binning.origin.get(static_cast<std::size_t>(s.axis))) *
-                    s.binning.scale.get(static_cast<std::size_t>(s.axis));
-    return !(b >= static_cast<float>(s.bin + 1));
-  }
+  // Split s as a plane: a prim goes left if its bin on s's axis is at most s.bin, as
+  // Binning::bins() would compute it (the same two operations on the same lane; the clamp to
+  // the last bin cannot move a bin across s.bin, and a NaN goes to bin 0), without the other
+  // axes. The axis's origin and scale are read out of their lanes once, not per prim.
+  struct SplitPlane {
+    std::size_t axis;
+    float origin, scale, limit;
+
+    explicit SplitPlane(const Split& s)
+        : axis(static_cast<std::size_t>(s.axis)),
+          origin(s.binning.origin.get(axis)),
+          scale(s.binning.scale.get(axis)),
+          limit(static_cast<float>(s.bin + 1)) {}
+    bool goes_left(const Prim& p) const { return !((p.sphere[axis] - origin) * scale >= limit); }
+  };
 
   template <bool Boxed>
   std::size_t partition(const Cluster& c, const Split& s, Sides& sides) {
@@ -235,10 +246,11 @@ class Builder {
   template <bool Boxed>
   std::size_t partition_serial(std::size_t begin, std::size_t end, const Split& s, Sides& sides) {
     BoxLanes left_centroids, right_centroids, left_box, right_box;
+    const SplitPlane plane(s);
     std::size_t l = begin;
     for (std::size_t i = begin; i < end; ++i) {
       const Prim prim = p_[i];
-      const bool to_left = goes_left(prim, s);
+      const bool to_left = plane.goes_left(prim);
       p_.swap(i, l);
       l += to_left;
       const LaneMask mask(to_left);
@@ -301,9 +313,10 @@ class Builder {
   }
 
   // Cost of a side: its area times its leaf batches. A leaf of W spheres costs what a leaf of
-  // one does, so the SAH prefers splits that fill batches.
+  // one does, so the SAH prefers splits that fill batches. The width is a power of two: a
+  // shift, not a division, which the sweep would otherwise do twice per candidate.
   float side_cost(const Box& box, std::size_t count) const {
-    return box.half_area() * static_cast<float>((count + width_ - 1) / width_);
+    return box.half_area() * static_cast<float>((count + width_ - 1) >> width_shift_);
   }
 
   template <std::size_t Count>
@@ -424,6 +437,7 @@ class Builder {
   std::size_t width_;
   std::size_t parallel_min_;
   std::size_t block_;
+  unsigned width_shift_;  // log2 of the width
 };
 
 }  // namespace sphray::detail
