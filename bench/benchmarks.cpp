@@ -8,8 +8,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench_agreement.hpp"
 #include "implementations.hpp"
-#include "verify.hpp"
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <x86intrin.h>
@@ -17,6 +17,9 @@
 
 namespace sphray::bench {
 namespace {
+
+using render::bench::Agreement;
+using render::bench::compare_hits;
 
 // Time stamp counter ticks: constant rate (the nominal clock) on every CPU this runs on,
 // whatever the core clock does. The "clock" benchmark relates the two.

@@ -10,7 +10,8 @@
 #include <memory>
 #include <string>
 
-#include "embree_spheres.hpp"  // render/src: the Embree glue `sphray bench` uses too
+#include "embree_crossings.hpp"  // render/src: the Embree glue `sphray bench` uses too
+#include "embree_spheres.hpp"
 #include "implementations.hpp"
 #include "threads.hpp"
 
@@ -126,64 +127,13 @@ Builder embree_builder(int threads) {
   return {"embree", threads, prepare};
 }
 
-// Every crossing the way Embree's multi-hit tutorials find them: the filter sees each hit the
-// traversal finds, in traversal order, records it and rejects it (valid = 0), so the ray's tfar
-// never shrinks and the walk goes on to the end of the segment. The per-ray state travels in
-// the intersect context, extended as the tutorials extend it.
-struct CrossingContext {
-  RTCIntersectContext context;  // first: the filter gets a pointer to it and casts back
-  Hit* nearest = nullptr;       // the nearest crossings so far, sorted by t then id
-  std::size_t room = 0;
-  std::size_t total = 0;  // every crossing reported
-};
-
-CrossingContext& crossing_context(const RTCFilterFunctionNArguments* args) {
-  return *reinterpret_cast<CrossingContext*>(args->context);
-}
-
-// Keeps the `room` nearest by insertion (a crossing behind a full list costs one comparison),
-// as sphray's intersect_all keeps its span.
-void keep_nearest(const RTCFilterFunctionNArguments* args) {
-  CrossingContext& c = crossing_context(args);
-  for (unsigned i = 0; i < args->N; ++i) {
-    if (args->valid[i] != -1) continue;
-    args->valid[i] = 0;
-    // Inside the filter, the ray's tfar is the distance of the hit being offered.
-    const Hit hit{RTCRayN_tfar(args->ray, args->N, i), RTCHitN_primID(args->hit, args->N, i)};
-    const std::size_t kept = std::min(c.total++, c.room);
-    std::size_t at = kept;
-    while (at > 0 && (hit.t < c.nearest[at - 1].t ||
-                      (hit.t == c.nearest[at - 1].t && hit.id < c.nearest[at - 1].id)))
-      --at;
-    if (at == c.room) continue;
-    const std::size_t end = std::min(kept, c.room - 1);
-    std::copy_backward(c.nearest + at, c.nearest + end, c.nearest + end + 1);
-    c.nearest[at] = hit;
-  }
-}
-
-void count_only(const RTCFilterFunctionNArguments* args) {
-  CrossingContext& c = crossing_context(args);
-  for (unsigned i = 0; i < args->N; ++i) {
-    if (args->valid[i] != -1) continue;
-    args->valid[i] = 0;
-    ++c.total;
-  }
-}
-
 }  // namespace
 
 EmbreeCrossings::EmbreeCrossings(const SphereSoA& spheres, bool counting)
-    : scene_(build_scene(spheres, 1, counting ? count_only : keep_nearest)) {}
+    : scene_(build_scene(spheres, 1, counting ? embree::count_only : embree::keep_nearest)) {}
 
 std::size_t EmbreeCrossings::intersect_all(const Ray& ray, std::span<Hit> out) const {
-  CrossingContext c;
-  rtcInitIntersectContext(&c.context);
-  c.nearest = out.data();
-  c.room = out.size();
-  RTCRayHit rh = embree::to_embree(ray);
-  rtcIntersect1(static_cast<RTCScene>(scene_.get()), &c.context, &rh);
-  return c.total;
+  return embree::every_crossing(static_cast<RTCScene>(scene_.get()), ray, out);
 }
 
 std::vector<Implementation> embree_implementations() {

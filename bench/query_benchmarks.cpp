@@ -5,7 +5,7 @@
 //
 // The every-crossing queries also run beside Embree's way to the same answer (an intersection
 // filter that records each hit and rejects it), on camera and incoherent rays, each checked
-// against the scalar reference's crossings on a sample (bench/verify.hpp). Names:
+// against the scalar reference's crossings on a sample (render/src/bench_agreement.hpp). Names:
 // every_hit/<scene>/<coherent|incoherent>/<row>/threads:1.
 #include <algorithm>
 #include <array>
@@ -18,13 +18,17 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench_agreement.hpp"
 #include "implementations.hpp"
 #include "threads.hpp"
-#include "verify.hpp"
 #include "workload.hpp"
 
 namespace sphray::bench {
 namespace {
+
+using render::bench::Agreement;
+using render::bench::compare_crossings;
+using render::bench::Crossings;
 
 constexpr std::size_t kPoints = 1 << 16;
 constexpr std::size_t kSample = 256;

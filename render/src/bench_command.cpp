@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "atomic_output.hpp"
+#include "bench_crossings.hpp"
 #include "bench_json.hpp"
 #include "bench_rays.hpp"
 #include "bench_report.hpp"
@@ -38,8 +39,8 @@ std::string mrays(double per_second) {
   return text;
 }
 
-std::string result_name(const Context& c, RayKind kind, const Row& row) {
-  std::string name = row.name;
+std::string result_name(const Context& c, RayKind kind, const std::string& row_name) {
+  std::string name = row_name;
   for (char& ch : name)
     if (ch == ' ') ch = '-';
   return c.scene + "/" + ray_kind_name(kind) + "/" + name + "/threads:" + std::to_string(c.threads);
@@ -91,6 +92,18 @@ void print_header(const Context& c) {
   std::printf("%s\n", embree.empty() ? "Embree: not in this build" : embree.c_str());
 }
 
+// A note after a row's rates, and for a row whose threads did not have their cores all the
+// time, how much they had; indented, or empty.
+std::string with_cpu_share(std::string text, const RowTiming& timing) {
+  if (timing.cpu_share() < 0.9) {
+    char part[64];
+    std::snprintf(part, sizeof part, "%shad the CPU %.0f%% of the time", text.empty() ? "" : "; ",
+                  100 * timing.cpu_share());
+    text += part;
+  }
+  return text.empty() ? text : "  " + text;
+}
+
 // After a row's rates: for another library's row, how sphray's default tree compares; for a row
 // whose threads did not have their cores all the time, how much they had.
 std::string note(const Row& row, const RowTiming& timing, double tree_rate) {
@@ -104,12 +117,23 @@ std::string note(const Row& row, const RowTiming& timing, double tree_rate) {
       std::snprintf(part, sizeof part, "%.2fx as fast as sphray's default tree (*)", 1 / ratio);
     text += part;
   }
-  if (timing.cpu_share() < 0.9) {
-    std::snprintf(part, sizeof part, "%shad the CPU %.0f%% of the time", text.empty() ? "" : "; ",
-                  100 * timing.cpu_share());
-    text += part;
-  }
-  return text.empty() ? text : "  " + text;
+  return with_cpu_share(text, timing);
+}
+
+void print_table_header() {
+  std::printf("  %-25s %8s  %-13s  %11s\n", "row", "Mrays/s", "(min-max)", "by CPU time");
+}
+
+// A row's rates on one line: the median, the spread and the rate by CPU time, then a note.
+void print_rates(const std::string& name, bool dispatched, const RowTiming& timing,
+                 const std::string& note) {
+  char spread[48];
+  std::snprintf(spread, sizeof spread, "(%.2f-%.2f)", timing.min_rate() / 1e6,
+                timing.max_rate() / 1e6);
+  std::printf("  %-24s%s %8s  %-13s  %11s%s\n", name.c_str(), dispatched ? "*" : " ",
+              mrays(timing.median_rate()).c_str(), spread, mrays(timing.median_cpu_rate()).c_str(),
+              note.c_str());
+  std::fflush(stdout);
 }
 
 // The rows of one ray kind, printed as they finish; false at the first disagreement.
@@ -126,13 +150,14 @@ bool run_kind(const BenchArgs& args, const Scene& scene, const Context& context,
   if (brute_timed && set.brute_rays.size() < set.rays.size())
     std::printf("; brute force traces %zu of them, spread evenly, to keep a pass short",
                 set.brute_rays.size());
-  std::printf("):\n  %-25s %8s  %-13s  %11s\n", "row", "Mrays/s", "(min-max)", "by CPU time");
+  std::printf("):\n");
+  print_table_header();
   std::fflush(stdout);
   double tree_rate = 0.0;  // the dispatched tree's, for the ratios of the Embree rows
   for (const Row& row : rows) {
     if (!row.skipped.empty()) {
       std::printf("  %-25s skipped: %s\n", row.name.c_str(), row.skipped.c_str());
-      results.push_back({result_name(context, kind, row), "", {}, row.skipped});
+      results.push_back({result_name(context, kind, row.name), "", {}, row.skipped});
       continue;
     }
     progress.show(row.name + ": " + (row.brute_force ? "checking" : "building, checking"));
@@ -151,17 +176,75 @@ bool run_kind(const BenchArgs& args, const Scene& scene, const Context& context,
     }
     const double r = timing.median_rate();
     if (row.dispatched && row.name.ends_with(" tree")) tree_rate = r;
-    char spread[48];
-    std::snprintf(spread, sizeof spread, "(%.2f-%.2f)", timing.min_rate() / 1e6,
-                  timing.max_rate() / 1e6);
-    std::printf("  %-24s%s %8s  %-13s  %11s%s\n", row.name.c_str(), row.dispatched ? "*" : " ",
-                mrays(r).c_str(), spread, mrays(timing.median_cpu_rate()).c_str(),
-                note(row, timing, tree_rate).c_str());
-    std::fflush(stdout);
+    print_rates(row.name, row.dispatched, timing, note(row, timing, tree_rate));
     measured.push_back({row.name, row.dispatched, row.brute_force, row.name.ends_with(" stream"),
                         row.exact, r, timing.min_rate(), timing.max_rate()});
-    results.push_back({result_name(context, kind, row), row.dispatched ? "dispatched" : "",
+    results.push_back({result_name(context, kind, row.name), row.dispatched ? "dispatched" : "",
                        std::move(timing), ""});
+  }
+  return true;
+}
+
+// After an every-hit row's rates: for another library's row, how sphray's row with the same
+// answer compares, and how many rays the check compared; as note() for the CPU share.
+std::string crossing_note(const CrossingRow& row, const CrossingCheck& check,
+                          const RowTiming& timing, double same_answer_rate) {
+  std::string text;
+  char part[160];
+  if (!row.sphray && same_answer_rate > 0) {
+    std::snprintf(part, sizeof part,
+                  "%s is %.2fx as fast; checked on all %zu rays: %zu undecided, %zu ties",
+                  row.same_answer_as.c_str(), same_answer_rate / timing.median_rate(), check.rays,
+                  check.undecided, check.ties);
+    text += part;
+  }
+  return with_cpu_share(text, timing);
+}
+
+// The every-hit rows of one ray kind (--query every-hit), printed as they finish; false at the
+// first disagreement. sphray's intersect_all16 row is the reference another library's rows are
+// checked against, on every ray.
+bool run_every_hit_kind(const BenchArgs& args, const Scene& scene, const Context& context,
+                        RayKind kind, const std::vector<CrossingRow>& rows, Progress& progress,
+                        std::vector<Result>& results) {
+  progress.show(std::string("making ") + ray_kind_name(kind) + " rays");
+  const RaySet set = make_ray_set(scene, kind);
+  progress.clear();
+  std::printf("\n%s rays (%s, %zu rays), every crossing:\n", ray_kind_name(kind),
+              set.description.c_str(), set.rays.size());
+  print_table_header();
+  const SphereView spheres = scene.spheres.view();
+  const CrossingTrace reference = std::find_if(rows.begin(), rows.end(), [](const CrossingRow& r) {
+                                    return r.name == "tree intersect_all16";
+                                  })->prepare(spheres);
+  std::vector<std::pair<std::string, double>> rates;  // sphray's rows, for the ratios
+  for (const CrossingRow& row : rows) {
+    if (!row.skipped.empty()) {
+      std::printf("  %-25s skipped: %s\n", row.name.c_str(), row.skipped.c_str());
+      results.push_back({result_name(context, kind, row.name), "", {}, row.skipped});
+      continue;
+    }
+    progress.show(row.name + ": checking");
+    const CrossingTrace trace = row.prepare(spheres);
+    const CrossingCheck check = check_crossing_row(row, trace, set, spheres, reference);
+    if (!check.mismatch.empty()) {
+      progress.clear();
+      std::fprintf(stderr, "sphray: %s disagrees with %s on %s rays: %s\n", row.name.c_str(),
+                   row.sphray ? "the scalar reference" : "sphray's intersect_all16",
+                   ray_kind_name(kind), check.mismatch.c_str());
+      return false;
+    }
+    progress.show(row.name + ": timing");
+    RowTiming timing =
+        time_crossing_row(row, trace, set, args.threads, args.seconds, args.repetitions);
+    progress.row_done();
+    progress.clear();
+    double same_answer_rate = 0;
+    for (const auto& [name, rate] : rates)
+      if (name == row.same_answer_as) same_answer_rate = rate;
+    if (row.sphray) rates.emplace_back(row.name, timing.median_rate());
+    print_rates(row.name, false, timing, crossing_note(row, check, timing, same_answer_rate));
+    results.push_back({result_name(context, kind, row.name), "", std::move(timing), ""});
   }
   return true;
 }
@@ -218,12 +301,23 @@ int run_bench(const BenchArgs& args) {
   double load[3];
   if (::getloadavg(load, 3) == 3) context.load_average.assign(load, load + 3);
   print_header(context);
-  std::vector<Row> rows = sphray_rows(scene.spheres.size());
-  for (Row& row : embree_rows())
-    rows.push_back(std::move(row));
+  const bool every_hit = args.query == "every-hit";
+  std::vector<Row> rows;
+  std::vector<CrossingRow> crossing_rows;
+  if (every_hit) {
+    crossing_rows = sphray_crossing_rows();
+    for (CrossingRow& row : embree_crossing_rows())
+      crossing_rows.push_back(std::move(row));
+  } else {
+    rows = sphray_rows(scene.spheres.size());
+    for (Row& row : embree_rows())
+      rows.push_back(std::move(row));
+  }
   const std::vector<RayKind> kinds = ray_kinds(args.rays);
   const auto timed = static_cast<std::size_t>(
-      std::count_if(rows.begin(), rows.end(), [](const Row& r) { return r.skipped.empty(); }));
+      std::count_if(rows.begin(), rows.end(), [](const Row& r) { return r.skipped.empty(); }) +
+      std::count_if(crossing_rows.begin(), crossing_rows.end(),
+                    [](const CrossingRow& r) { return r.skipped.empty(); }));
   const double estimate = estimate_seconds(timed * kinds.size(), args.seconds);
   std::printf(
       "%zu rows to time (%zu per ray kind): about %s, longer where a pass over the rays or a "
@@ -238,9 +332,13 @@ int run_bench(const BenchArgs& args) {
   Progress progress(!args.quiet, timed * kinds.size(), estimate);
   std::vector<Result> results;
   std::vector<std::vector<Measured>> measured(kinds.size());
-  for (std::size_t k = 0; k < kinds.size(); ++k)
-    if (!run_kind(args, scene, context, kinds[k], rows, progress, results, measured[k]))
-      return kExitFailure;
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    const bool agreed =
+        every_hit
+            ? run_every_hit_kind(args, scene, context, kinds[k], crossing_rows, progress, results)
+            : run_kind(args, scene, context, kinds[k], rows, progress, results, measured[k]);
+    if (!agreed) return kExitFailure;
+  }
   std::printf("\n");
   for (std::size_t k = 0; k < kinds.size(); ++k)
     std::printf("%s", recommendation(measured[k], ray_kind_name(kinds[k])).c_str());

@@ -1,11 +1,13 @@
 // Intel Embree 3 on the same spheres and rays, where the build has it (SPHRAY_WITH_EMBREE),
 // through embree_spheres.hpp. Linked into the sphray command only, never into the kernel.
+#include "bench_crossings.hpp"
 #include "bench_rows.hpp"
 
 #if SPHRAY_WITH_EMBREE
 #include <memory>
 #include <stdexcept>
 
+#include "embree_crossings.hpp"
 #include "embree_spheres.hpp"
 #endif
 
@@ -31,9 +33,9 @@ std::shared_ptr<RTCDeviceTy> device() {
 
 using SceneHandle = std::shared_ptr<RTCSceneTy>;
 
-SceneHandle build_scene(SphereView spheres) {
+SceneHandle build_scene(SphereView spheres, RTCFilterFunctionN intersect_filter = nullptr) {
   RTCScene scene = rtcNewScene(device().get());
-  embree::attach_spheres(device().get(), scene, spheres);
+  embree::attach_spheres(device().get(), scene, spheres, intersect_filter);
   rtcCommitScene(scene);
   return SceneHandle(scene, rtcReleaseScene);
 }
@@ -49,7 +51,30 @@ Row embree_row(std::string name, EmbreeTrace trace) {
   return {std::move(name), false, false, false, prepare};
 }
 
+// A multi-hit filter's row: with keep_nearest the 16 nearest and the total, with count_only the
+// total alone.
+CrossingRow embree_crossing_row(std::string name, bool counting, std::string same_answer_as) {
+  CrossingRow row{std::move(name), counting, false, false, std::move(same_answer_as), {}, {}};
+  row.prepare = [counting](SphereView spheres) -> CrossingTrace {
+    SceneHandle scene = build_scene(spheres, counting ? embree::count_only : embree::keep_nearest);
+    return [scene](std::span<const Ray> rays, std::span<std::size_t> totals, std::span<Hit> lists) {
+      for (std::size_t i = 0; i < rays.size(); ++i)
+        totals[i] = embree::every_crossing(
+            scene.get(), rays[i],
+            lists.empty() ? std::span<Hit>() : lists.subspan(i * kCrossingRoom, kCrossingRoom));
+    };
+  };
+  return row;
+}
+
 }  // namespace
+
+std::vector<CrossingRow> embree_crossing_rows() {
+  std::vector<CrossingRow> rows;
+  rows.push_back(embree_crossing_row("embree filter count", true, "tree count_hits"));
+  rows.push_back(embree_crossing_row("embree filter all16", false, "tree intersect_all16"));
+  return rows;
+}
 
 std::vector<Row> embree_rows() {
   std::vector<Row> rows{embree_row("embree rtcIntersect1", embree::intersect1),
@@ -67,6 +92,10 @@ std::string embree_version() {
 }
 #else
 std::vector<Row> embree_rows() {
+  return {};
+}
+
+std::vector<CrossingRow> embree_crossing_rows() {
   return {};
 }
 

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <span>
 #include <sstream>
 #include <vector>
 
@@ -90,28 +91,20 @@ double RowTiming::cpu_share() const {
   return wall > 0 ? cpu / (wall * threads) : 1.0;
 }
 
-RowTiming time_row(const Row& row, const Trace& trace, const RaySet& set, int threads,
-                   double seconds, int repetitions) {
+RowTiming time_passes(std::size_t rays, const Answer& answer, int threads, double seconds,
+                      int repetitions) {
   RowTiming timing;
   timing.threads = threads;
-  timing.mismatch = first_mismatch(row, trace, set);
-  if (!timing.mismatch.empty()) return timing;
-  const std::vector<Ray>& rays = row.brute_force ? set.brute_rays : set.rays;
-  std::vector<Hit> hits(rays.size());
-  const std::span<const Ray> all_rays(rays);
-  const std::span<Hit> all_hits(hits);
   // About 16 chunks per thread keeps every thread busy to the end when rays differ in cost.
   const std::size_t grain =
-      std::clamp<std::size_t>(rays.size() / (16 * static_cast<std::size_t>(threads)), 64, 4096);
+      std::clamp<std::size_t>(rays / (16 * static_cast<std::size_t>(threads)), 64, 4096);
   tbb::task_arena arena(threads);
   auto pass = [&] {
-    if (threads == 1) return trace(all_rays, all_hits);
+    if (threads == 1) return answer(0, rays);
     arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), grain),
-                        [&](const tbb::blocked_range<std::size_t>& r) {
-                          trace(all_rays.subspan(r.begin(), r.size()),
-                                all_hits.subspan(r.begin(), r.size()));
-                        });
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, rays, grain),
+          [&](const tbb::blocked_range<std::size_t>& r) { answer(r.begin(), r.end()); });
     });
   };
   pass();  // warm-up: caches, page faults, the arena's threads
@@ -127,10 +120,30 @@ RowTiming time_row(const Row& row, const Trace& trace, const RaySet& set, int th
       t.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     } while (t.seconds < share);
     t.cpu_seconds = cpu_now() - cpu_start;
-    t.rays_per_pass = rays.size();
+    t.rays_per_pass = rays;
     timing.repetitions.push_back(t);
   }
   return timing;
+}
+
+RowTiming time_row(const Row& row, const Trace& trace, const RaySet& set, int threads,
+                   double seconds, int repetitions) {
+  const std::string mismatch = first_mismatch(row, trace, set);
+  if (!mismatch.empty()) {
+    RowTiming timing;
+    timing.mismatch = mismatch;
+    return timing;
+  }
+  const std::vector<Ray>& rays = row.brute_force ? set.brute_rays : set.rays;
+  std::vector<Hit> hits(rays.size());
+  const std::span<const Ray> all_rays(rays);
+  const std::span<Hit> all_hits(hits);
+  return time_passes(
+      rays.size(),
+      [&](std::size_t begin, std::size_t end) {
+        trace(all_rays.subspan(begin, end - begin), all_hits.subspan(begin, end - begin));
+      },
+      threads, seconds, repetitions);
 }
 
 }  // namespace sphray::render::bench

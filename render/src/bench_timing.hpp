@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,14 @@ struct RowTiming {
   /// cores all the time, less when other work took turns on them.
   double cpu_share() const;
 };
+
+/// Answers rays [begin, end) of a pass; called on several threads at once.
+using Answer = std::function<void(std::size_t begin, std::size_t end)>;
+
+/// Times `repetitions` repetitions of passes over rays rays on `threads` threads, each pass
+/// after pass for at least seconds / repetitions (one pass at least), after one pass to warm up.
+RowTiming time_passes(std::size_t rays, const Answer& answer, int threads, double seconds,
+                      int repetitions);
 
 /// Checks trace against set.expected on set.sample (bit for bit for an exact row; otherwise t
 /// within 1e-3 of max(1, |t|) and the same sphere, or another at that t), traces the row's rays

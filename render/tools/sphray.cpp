@@ -276,6 +276,13 @@ void add_bench_options(CLI::App& bench, sphray::render::bench::BenchArgs& args) 
                   "Times each row is timed: its rate is their median, its spread min to max")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  bench
+      .add_option("--query", args.query,
+                  "What each row answers: the closest hit, or every crossing (count_hits, "
+                  "intersect_all and intersect_nearest into 16 slots, and Embree's multi-hit "
+                  "filters)")
+      ->check(CLI::IsMember(std::vector<std::string>{"closest", "every-hit"}))
+      ->capture_default_str();
   add_camera_options(bench, args.camera);  // the camera rays' camera
   bench.add_option("--json", args.json, "Also write the results as Google Benchmark JSON");
   bench.add_flag("--force,-f", args.force, "Replace the --json file even if it is read-only");

@@ -8,8 +8,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench_crossings.hpp"
+#include "bench_rays.hpp"
 #include "bench_report.hpp"
 #include "command_run.hpp"
+#include "sphray/render/scene.hpp"
 #include "sphray/sphray.hpp"
 #include "test_files.hpp"
 
@@ -246,6 +249,68 @@ TEST_F(BenchCli, AJsonFileThatCannotBeWrittenIsRefusedBeforeTiming) {
       run("bench -s single --rays camera --seconds 0 -q --force --json " + path("old.json"));
   EXPECT_EQ(forced.status, 0) << forced.out;
   EXPECT_NO_THROW(nlohmann::json::parse(sphray::test::read_bytes(path("old.json"))));
+}
+
+// --query every-hit: sphray's every-crossing rows, checked against the scalar reference, and
+// where the build has Embree its multi-hit filters, checked against sphray's lists on every ray.
+TEST_F(BenchCli, EveryHitRowsAreCheckedAndTimed) {
+  const Result r =
+      run("bench -s random:512 --query every-hit --rays random --seconds 0.001 "
+          "--repetitions 1 -q --json " +
+          path("r.json"));
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("random rays (262144 random rays, 262144 rays), every crossing"),
+            std::string::npos)
+      << r.out;
+  for (const char* row : {"tree count_hits", "tree intersect_all16", "tree intersect_nearest16"})
+    EXPECT_NE(r.out.find(row), std::string::npos) << row << "\n" << r.out;
+  const bool embree = r.out.find("Embree: not in this build") == std::string::npos;
+  const auto json = nlohmann::json::parse(sphray::test::read_bytes(path("r.json")));
+  std::size_t rows = 0;
+  for (const auto& row : json.at("benchmarks"))
+    rows += row.at("run_type") == "iteration";
+  EXPECT_EQ(rows, embree ? 5u : 3u);
+  if (!embree) return;
+  EXPECT_NE(r.out.find("embree filter count"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("embree filter all16"), std::string::npos) << r.out;
+  // Each filter row names the sphray row with its answer, and says it was checked on every ray
+  // (a disagreement would have failed the run).
+  EXPECT_NE(r.out.find("tree count_hits is "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("tree intersect_all16 is "), std::string::npos) << r.out;
+  std::size_t agreed = 0;
+  for (std::size_t at = 0; (at = r.out.find("checked on all 262144 rays", at)) != std::string::npos;
+       ++at)
+    ++agreed;
+  EXPECT_EQ(agreed, 2u) << r.out;
+}
+
+// The checks have teeth: a row that loses one crossing, or reports one too many, is caught.
+TEST(BenchCrossings, ARowThatMissesACrossingDisagrees) {
+  using namespace sphray::render::bench;
+  const sphray::render::Scene scene = sphray::render::load_scene_or_preset("random:512");
+  const RaySet set = make_ray_set(scene, RayKind::random);
+  const std::vector<CrossingRow> rows = sphray_crossing_rows();
+  const CrossingRow& all = rows[1];
+  ASSERT_EQ(all.name, "tree intersect_all16");
+  const sphray::SphereView spheres = scene.spheres.view();
+  const CrossingTrace right = all.prepare(spheres);
+  EXPECT_EQ(check_crossing_row(all, right, set, spheres, right).mismatch, "");
+  for (const int change : {-1, +1}) {
+    const CrossingTrace wrong = [&right, change](std::span<const sphray::Ray> rays,
+                                                 std::span<std::size_t> totals,
+                                                 std::span<sphray::Hit> lists) {
+      right(rays, totals, lists);
+      for (std::size_t& total : totals)
+        if (total > 0) total = static_cast<std::size_t>(static_cast<long>(total) + change);
+    };
+    // As sphray's row, on the sample, against the scalar reference.
+    EXPECT_NE(check_crossing_row(all, wrong, set, spheres, right).mismatch, "") << change;
+    // As another library's row, on every ray, against sphray's.
+    CrossingRow other = all;
+    other.sphray = false;
+    const CrossingCheck check = check_crossing_row(other, wrong, set, spheres, right);
+    EXPECT_NE(check.mismatch.find("in the chunk from ray 0"), std::string::npos) << check.mismatch;
+  }
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
-// Before an implementation is timed, its hits on a sample of the rays are compared with the
-// scalar reference's, so a fast wrong answer is never reported as a result.
+// Before an implementation is timed, its answers are compared with the scalar reference's (or,
+// for another library, with sphray's), so that a fast wrong answer is never reported as a
+// result: the benchmark programs (bench/) and `sphray bench --query every-hit` share these
+// rules.
 #pragma once
 
 #include <span>
@@ -8,7 +10,7 @@
 
 #include "sphray/sphray.hpp"
 
-namespace sphray::bench {
+namespace sphray::render::bench {
 
 /// t may differ from the reference by this fraction of max(1, |t|): float rounding in a
 /// different order (FMA, SIMD lanes, Embree's own formulation), never a different surface.
@@ -17,8 +19,9 @@ inline constexpr float kRelativeTolerance = 1e-3f;
 struct Agreement {
   std::size_t compared = 0;
   std::size_t id_ties = 0;  // same t within tolerance, different sphere: a tie decided by rounding
-  std::size_t undecided = 0;   // rays float cannot decide (compare_crossings), not compared
-  std::string first_mismatch;  // empty when every hit agrees
+  std::size_t undecided = 0;    // rays float cannot decide (compare_crossings), not compared
+  std::string first_mismatch;   // empty when every hit agrees
+  std::size_t mismatch_at = 0;  // the index of the ray it describes
 
   bool ok() const { return first_mismatch.empty(); }
 };
@@ -43,4 +46,4 @@ struct Crossings {
 /// `undecided`.
 Agreement compare_crossings(std::span<const Crossings> expected, std::span<const Crossings> got);
 
-}  // namespace sphray::bench
+}  // namespace sphray::render::bench

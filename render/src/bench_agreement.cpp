@@ -1,10 +1,10 @@
-#include "verify.hpp"
+#include "bench_agreement.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-namespace sphray::bench {
+namespace sphray::render::bench {
 namespace {
 
 bool t_close(float a, float b) {
@@ -81,8 +81,10 @@ Agreement compare_crossings(std::span<const Crossings> expected, std::span<const
       continue;
     }
     ++a.compared;
-    if (!lists_agree(e, g, a.id_ties) && a.first_mismatch.empty())
+    if (!lists_agree(e, g, a.id_ties) && a.first_mismatch.empty()) {
       a.first_mismatch = describe_crossings(i, e, g);
+      a.mismatch_at = i;
+    }
   }
   return a;
 }
@@ -106,4 +108,4 @@ Agreement compare_hits(std::span<const Ray> rays, std::span<const Hit> expected,
   return a;
 }
 
-}  // namespace sphray::bench
+}  // namespace sphray::render::bench
