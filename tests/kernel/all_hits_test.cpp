@@ -238,6 +238,15 @@ TEST(AllHits, EveryKernelAndTreeMatchTheReferences) {
             check([&](std::span<Hit> o,
                       std::span<bool> e) { return intersect_nearest(trees[k], ray, o, e); },
                   "tree nearest", kernels[k], true);
+            // Without exit flags the nearest crossing alone is the closest hit's walk.
+            for (const std::size_t cap : {std::size_t{1}, std::size_t{2}}) {
+              std::vector<Hit> got(cap, Hit{-1, 12345});
+              const std::size_t n_got = intersect_nearest(trees[k], ray, got);
+              ASSERT_EQ(n_got, std::min(cap, total)) << test::name_of(kernels[k]) << " cap " << cap;
+              for (std::size_t i = 0; i < cap; ++i)
+                ASSERT_TRUE(same_bits(got[i], i < n_got ? want[i] : Hit{-1, 12345}))
+                    << test::name_of(kernels[k]) << " cap " << cap << ", crossing " << i;
+            }
           }
         }
       });

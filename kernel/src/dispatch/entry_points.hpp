@@ -119,6 +119,14 @@ struct EntryPoints {
   }
   static std::size_t bvh_intersect_nearest(const BvhData& bvh, const Ray& ray, Hit* hits,
                                            bool* exits, std::size_t capacity) {
+    // The nearest crossing alone is the closest hit, bit for bit (docs/queries.md): its walk,
+    // without a list to keep.
+    if (capacity == 1 && exits == nullptr) {
+      const Hit hit = bvh_intersect(bvh, ray);
+      if (!hit.found()) return 0;
+      hits[0] = hit;
+      return 1;
+    }
     HitList list(hits, exits, capacity);
     return AllHits<A>::intersect_nearest(bvh, ray, list);
   }
