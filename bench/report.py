@@ -752,7 +752,9 @@ def every_hit_section(res):
            "crossings on a sample (totals, and the 16 nearest up to float ties). Targets: "
            f"`count_hits` >= {COUNT_OVER_FILTER:g}x the counting filter, `intersect_all16` >= "
            f"{ALL16_OVER_FILTER:g}x the collecting filter. `intersect_nearest16` (the 16 nearest without "
-           "the total, the walk pruned) for reference.", ""]
+           "the total, the walk pruned) for reference. `sphray bench -s SCENE --query every-hit` times "
+           "the same rows and checks the filters against sphray's lists on every ray "
+           "(docs/queries.md, \"Against Embree's filter\").", ""]
     out.append(table(["scene (spheres)", "rays", "count_hits", "embree_filter_count", "ratio",
                       "intersect_all16", "embree_filter_all16", "ratio", "intersect_nearest16"], rows))
     out += ["", f"Both targets met on {sum(targets)} of {len(targets)} scene and ray sets in this run."]
