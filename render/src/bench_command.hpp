@@ -12,7 +12,7 @@ struct BenchArgs {
   std::string scene = "rtiow-final";
   std::string rays = "both";      // camera, random or both
   std::string query = "closest";  // closest or every-hit (bench_crossings.hpp)
-  CameraArgs camera;          // the camera rays' camera, over the scene's
+  CameraArgs camera;              // the camera rays' camera, over the scene's
   int threads = 1;
   double seconds = 0.5;  // per row, shared among its repetitions
   int repetitions = 3;
