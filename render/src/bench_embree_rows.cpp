@@ -1,5 +1,6 @@
-// Intel Embree 3 on the same spheres and rays, where the build has it (SPHRAY_WITH_EMBREE),
-// through embree_spheres.hpp. Linked into the sphray command only, never into the kernel.
+// Intel Embree 3 on the same spheres and rays, where the build has it (SPHRAY_WITH_EMBREE): the
+// closest hit through embree_spheres.hpp, every crossing through its multi-hit filters
+// (embree_crossings.hpp). Linked into the sphray command only, never into the kernel.
 #include "bench_crossings.hpp"
 #include "bench_rows.hpp"
 

@@ -32,9 +32,10 @@ constexpr std::size_t kBins = 32;
 constexpr std::size_t kFewBins = 16;
 constexpr std::size_t kFewBinsBelow = 64;
 // A range of more spheres than twice this chooses its split from kBinSamples to twice as many of
-// them, evenly spaced, and finds its sides' boxes in a pass after the partition: the top levels
-// of a large tree then read their spheres twice a split rather than three times, with splits
-// whose cost differs from the full binning's by a fraction of a percent (docs/bvh.md).
+// them, evenly spaced, and the partition, which reads every sphere anyway, grows its sides'
+// boxes: the top levels of a large tree then read their spheres once a split rather than twice,
+// with splits whose cost differs from the full binning's by a fraction of a percent
+// (docs/bvh.md).
 constexpr std::size_t kBinSamples = std::size_t{1} << 14;
 // Past this depth every split is a median split, which at least halves a range: with ids
 // below 2^32 the tree then stays within kBvhMaxDepth levels.
