@@ -5,14 +5,14 @@ stream calls on the same arrays (through ctypes: one call, so the difference fro
 is the binding's cost). Rays per second, and how many answers agree.
 
     PYTHONPATH=build/release/python /usr/bin/python3 bench/python_vs_numpy.py \\
-        --library build/release/kernel/libsphray.so.0 [--out FILE.json]
+        --library build/release/kernel/libsphray.so.1 [--out FILE.json]
 
 Scenes: N spheres uniform in a 100-unit box, radii uniform in [0.5, 1.5) x 50 / cbrt(N) (the
 renderer's random:N recipe, drawn with numpy), N = 256, 4096 and 65536. Rays: origins uniform
 in the box, directions uniform on the unit sphere; 262,144 for sphray, fewer for numpy (which
 tests every sphere: 2^24 / N rays, the first ones of the same set). Each trace: best of
 --repeats. numpy runs on one thread (its element-wise operations do); the module and
-sphray_intersect_parallel on every core; sphray_intersect on one.
+sphray_intersect with threads SPHRAY_THREADS_ALL on every core; sphray_intersect on one.
 
 Needs numpy and the sphray module on PYTHONPATH. Writes the figures as JSON for
 bench/report.py and prints a table.
@@ -61,26 +61,33 @@ def numpy_intersect(centers, radii, origins, directions, chunk_elements=1 << 22)
     return t_out, id_out
 
 
+SPHRAY_THREADS_ALL = 0xFFFFFFFF
+
+
+class QueryArgs(ctypes.Structure):
+    """sphray_query_args: struct_size, masks (NULL: every bit), threads."""
+    _fields_ = [("struct_size", ctypes.c_size_t), ("masks", ctypes.POINTER(ctypes.c_uint32)),
+                ("threads", ctypes.c_uint)]
+
+
 class CApi:
-    """sphray's C API through ctypes: a scene, and the two closest-hit stream calls."""
+    """sphray's C API through ctypes: a scene, and the closest-hit stream call on one thread or
+    on many."""
 
     def __init__(self, path):
         self.lib = ctypes.CDLL(path)
         f = ctypes.POINTER(ctypes.c_float)
         self.lib.sphray_scene_create.argtypes = [f, f, f, f, ctypes.c_size_t, ctypes.c_size_t,
-                                                 ctypes.c_int, ctypes.POINTER(ctypes.c_void_p)]
+                                                 ctypes.c_void_p, ctypes.POINTER(ctypes.c_void_p)]
         self.lib.sphray_scene_release.argtypes = [ctypes.c_void_p]
-        self.lib.sphray_intersect.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
-                                              ctypes.c_size_t]
-        self.lib.sphray_intersect_parallel.argtypes = [ctypes.c_void_p, ctypes.c_void_p,
-                                                       ctypes.c_void_p, ctypes.c_size_t,
-                                                       ctypes.c_uint]
+        self.lib.sphray_intersect.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t,
+                                              ctypes.c_void_p, ctypes.POINTER(QueryArgs)]
 
     def scene(self, centers, radii):
         columns = [np.ascontiguousarray(centers[:, k]) for k in range(3)] + [radii]
         ptrs = [a.ctypes.data_as(ctypes.POINTER(ctypes.c_float)) for a in columns]
         handle = ctypes.c_void_p()
-        if self.lib.sphray_scene_create(*ptrs, len(radii), 0, 0, ctypes.byref(handle)) != 0:
+        if self.lib.sphray_scene_create(*ptrs, len(radii), 0, None, ctypes.byref(handle)) != 0:
             raise RuntimeError("sphray_scene_create failed")
         return handle
 
@@ -92,10 +99,12 @@ class CApi:
         return out
 
     def intersect(self, scene, rays, threads=None):
+        """threads None: the defaults (args NULL, the calling thread); else the threads field."""
         hits = np.empty(len(rays), dtype=[("t", np.float32), ("id", np.uint32)])
-        args = [scene, rays.ctypes.data, hits.ctypes.data, len(rays)]
-        status = (self.lib.sphray_intersect(*args) if threads is None else
-                  self.lib.sphray_intersect_parallel(*args, threads))
+        args = None if threads is None else ctypes.byref(
+            QueryArgs(ctypes.sizeof(QueryArgs), None, threads))
+        status = self.lib.sphray_intersect(scene, rays.ctypes.data, len(rays), hits.ctypes.data,
+                                           args)
         if status != 0:
             raise RuntimeError("sphray_intersect failed")
         return hits["t"], hits["id"]
@@ -117,7 +126,8 @@ def run(args):
         module_s, (_, ids) = best_of(args.repeats, lambda: scene.intersect(origins, directions))
         handle = capi.scene(centers, radii)
         one_s, (_, ids_one) = best_of(args.repeats, lambda: capi.intersect(handle, c_rays))
-        all_s, (_, ids_all) = best_of(args.repeats, lambda: capi.intersect(handle, c_rays, 0))
+        all_s, (_, ids_all) = best_of(
+            args.repeats, lambda: capi.intersect(handle, c_rays, SPHRAY_THREADS_ALL))
         capi.lib.sphray_scene_release(handle)
         m = max(1, min(RAYS, NUMPY_TESTS // n))
         numpy_s, (_, ids_np) = best_of(
@@ -166,7 +176,7 @@ def cpu_name():
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--library", required=True, help="libsphray.so.0 of the same build")
+    ap.add_argument("--library", required=True, help="libsphray.so.1 of the same build")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--out", help="write the figures here as JSON")
     ap.add_argument("--command", default="bench/python_vs_numpy.py")

@@ -837,7 +837,7 @@ def plot_speedup(res, path):
 NUMPY_TRACERS = [("numpy_rays_per_s", "numpy, vectorised quadratic (1 thread)"),
                  ("c_one_thread_rays_per_s", "sphray C API, sphray_intersect (1 thread)"),
                  ("module_rays_per_s", "sphray Python module, Scene.intersect (all threads)"),
-                 ("c_parallel_rays_per_s", "sphray C API, sphray_intersect_parallel (all threads)")]
+                 ("c_parallel_rays_per_s", "sphray C API, sphray_intersect (all threads)")]
 
 
 def numpy_section(data, plot):

@@ -11,7 +11,9 @@
 #include <cstring>
 #include <optional>
 #include <random>
+#include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <sphray/sphray.h>
@@ -91,8 +93,10 @@ class CApiAgreement : public ::testing::TestWithParam<int> {
     for (const CallerSphere& s : caller_)
       spheres_.add({s.x, s.y, s.z}, s.r);
     if (GetParam() == SPHRAY_ACCEL_BVH) bvh_.emplace(spheres_.view());
+    sphray_scene_args args = SPHRAY_SCENE_ARGS_INIT;
+    args.accel = GetParam();
     ASSERT_EQ(sphray_scene_create(&caller_[0].x, &caller_[0].y, &caller_[0].z, &caller_[0].r, n,
-                                  sizeof(CallerSphere), GetParam(), &scene_),
+                                  sizeof(CallerSphere), &args, &scene_),
               SPHRAY_OK)
         << sphray_last_error();
     rays_ = random_rays(scaled(1'000'000), rng);
@@ -120,7 +124,7 @@ class CApiAgreement : public ::testing::TestWithParam<int> {
 
 TEST_P(CApiAgreement, IntersectMatchesTheCppApiAndTheScalarReference) {
   std::vector<sphray_hit> hits(rays_.size());
-  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), hits.data(), rays_.size()), SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), rays_.size(), hits.data(), nullptr), SPHRAY_OK);
   std::size_t found = 0;
   for (std::size_t i = 0; i < rays_.size(); ++i) {
     const sphray::Hit expected = cpp_intersect(rays_[i]);
@@ -138,7 +142,8 @@ TEST_P(CApiAgreement, IntersectMatchesTheCppApiAndTheScalarReference) {
 }
 
 // The arrays form gives each ray the hit the struct calls give it: with per-ray bounds, with
-// NULL bounds (the defaults), and with per-ray masks (sphray_intersect_masked's).
+// NULL bounds (the defaults), and with per-ray masks (through sphray_query_args, as for
+// sphray_intersect).
 TEST_P(CApiAgreement, ArraysMatchTheStructCalls) {
   const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(100'000));
   std::vector<float> ox, oy, oz, dx, dy, dz, tmin, tmax;
@@ -152,8 +157,8 @@ TEST_P(CApiAgreement, ArraysMatchTheStructCalls) {
     masks.push_back(static_cast<std::uint32_t>(i % 3));  // 0: the ray sees nothing
     unbounded.push_back({r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, 0.0f, INFINITY});
   }
-  sphray_ray_arrays arrays{ox.data(), oy.data(),   oz.data(),   dx.data(), dy.data(),
-                           dz.data(), tmin.data(), tmax.data(), nullptr};
+  sphray_ray_arrays arrays{ox.data(), oy.data(), oz.data(),   dx.data(),
+                           dy.data(), dz.data(), tmin.data(), tmax.data()};
   std::vector<float> t(n);
   std::vector<std::uint32_t> id(n);
   std::vector<sphray_hit> expected(n);
@@ -167,24 +172,27 @@ TEST_P(CApiAgreement, ArraysMatchTheStructCalls) {
     }
     EXPECT_GT(found, n / 20) << what;  // the rays do meet spheres
   };
-  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), expected.data(), n), SPHRAY_OK);
-  ASSERT_EQ(sphray_intersect_arrays(scene_, &arrays, t.data(), id.data(), n), SPHRAY_OK)
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), n, expected.data(), nullptr), SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect_arrays(scene_, &arrays, n, t.data(), id.data(), nullptr), SPHRAY_OK)
       << sphray_last_error();
   expect_same("bounds");
   arrays.tmin = arrays.tmax = nullptr;
-  ASSERT_EQ(sphray_intersect(scene_, unbounded.data(), expected.data(), n), SPHRAY_OK);
-  ASSERT_EQ(sphray_intersect_arrays(scene_, &arrays, t.data(), id.data(), n), SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect(scene_, unbounded.data(), n, expected.data(), nullptr), SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect_arrays(scene_, &arrays, n, t.data(), id.data(), nullptr), SPHRAY_OK);
   expect_same("no bounds");
-  arrays.mask = masks.data();
-  ASSERT_EQ(sphray_intersect_masked(scene_, unbounded.data(), masks.data(), expected.data(), n),
-            SPHRAY_OK);
-  ASSERT_EQ(sphray_intersect_arrays(scene_, &arrays, t.data(), id.data(), n), SPHRAY_OK);
+  sphray_query_args args = SPHRAY_QUERY_ARGS_INIT;
+  args.masks = masks.data();
+  ASSERT_EQ(sphray_intersect(scene_, unbounded.data(), n, expected.data(), &args), SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect_arrays(scene_, &arrays, n, t.data(), id.data(), &args), SPHRAY_OK);
   expect_same("masks");
+  for (std::size_t i = 0; i < n; i += 3)
+    ASSERT_EQ(id[i], SPHRAY_NO_HIT) << "ray " << i << " of mask 0";
 }
 
 TEST_P(CApiAgreement, OccludedMatchesTheCppApi) {
   std::vector<unsigned char> occluded(rays_.size(), 7);
-  ASSERT_EQ(sphray_occluded(scene_, rays_.data(), occluded.data(), rays_.size()), SPHRAY_OK);
+  ASSERT_EQ(sphray_occluded(scene_, rays_.data(), rays_.size(), occluded.data(), nullptr),
+            SPHRAY_OK);
   for (std::size_t i = 0; i < rays_.size(); ++i)
     ASSERT_EQ(occluded[i], cpp_occluded(rays_[i]) ? 1 : 0) << "ray " << i;
 }
@@ -206,7 +214,7 @@ TEST_P(CApiAgreement, CoherentOccludedRaysMatchTheSingleRayCalls) {
     }
   }
   std::vector<unsigned char> occluded(rays.size(), 7);
-  ASSERT_EQ(sphray_occluded(scene_, rays.data(), occluded.data(), rays.size()), SPHRAY_OK);
+  ASSERT_EQ(sphray_occluded(scene_, rays.data(), rays.size(), occluded.data(), nullptr), SPHRAY_OK);
   std::size_t blocked = 0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     ASSERT_EQ(occluded[i], cpp_occluded(rays[i]) ? 1 : 0) << "ray " << i;
@@ -216,20 +224,21 @@ TEST_P(CApiAgreement, CoherentOccludedRaysMatchTheSingleRayCalls) {
   EXPECT_LT(blocked, rays.size() - rays.size() / 20);
 }
 
+// Threads through sphray_query_args (every query on every thread count: c_api_threads_test.cpp).
 TEST_P(CApiAgreement, ParallelCallsMatchTheSerialOnes) {
   // A tenth of the rays: still 25 chunks of work to share.
   const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(100'000));
   std::vector<sphray_hit> serial(n), parallel(n);
-  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), serial.data(), n), SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), n, serial.data(), nullptr), SPHRAY_OK);
   std::vector<unsigned char> occluded(n), occluded_parallel(n);
-  ASSERT_EQ(sphray_occluded(scene_, rays_.data(), occluded.data(), n), SPHRAY_OK);
-  for (unsigned threads : {0u, 1u, 3u}) {
-    ASSERT_EQ(sphray_intersect_parallel(scene_, rays_.data(), parallel.data(), n, threads),
-              SPHRAY_OK);
+  ASSERT_EQ(sphray_occluded(scene_, rays_.data(), n, occluded.data(), nullptr), SPHRAY_OK);
+  for (unsigned threads : {0u, 1u, 3u, SPHRAY_THREADS_ALL}) {
+    sphray_query_args args = SPHRAY_QUERY_ARGS_INIT;
+    args.threads = threads;
+    ASSERT_EQ(sphray_intersect(scene_, rays_.data(), n, parallel.data(), &args), SPHRAY_OK);
     ASSERT_EQ(std::memcmp(serial.data(), parallel.data(), n * sizeof(sphray_hit)), 0)
         << threads << " threads";
-    ASSERT_EQ(sphray_occluded_parallel(scene_, rays_.data(), occluded_parallel.data(), n, threads),
-              SPHRAY_OK);
+    ASSERT_EQ(sphray_occluded(scene_, rays_.data(), n, occluded_parallel.data(), &args), SPHRAY_OK);
     ASSERT_EQ(occluded, occluded_parallel) << threads << " threads";
   }
 }
@@ -238,14 +247,14 @@ TEST_P(CApiAgreement, SurfaceAndSpawnMatchTheCppApi) {
   const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(100'000));
   std::vector<sphray_hit> hits(n);
   std::vector<sphray_hit_surface> surfaces(n);
-  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), hits.data(), n), SPHRAY_OK);
-  ASSERT_EQ(sphray_surface(scene_, rays_.data(), hits.data(), surfaces.data(), n), SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), n, hits.data(), nullptr), SPHRAY_OK);
+  ASSERT_EQ(sphray_surface(scene_, rays_.data(), hits.data(), n, surfaces.data()), SPHRAY_OK);
   std::vector<float> dirs(3 * n);
   std::mt19937 rng(7);
   for (float& d : dirs)
     d = uniform(rng, -1, 1);
   std::vector<sphray_ray> spawned(n);
-  ASSERT_EQ(sphray_spawn(surfaces.data(), dirs.data(), spawned.data(), n), SPHRAY_OK);
+  ASSERT_EQ(sphray_spawn(surfaces.data(), dirs.data(), n, spawned.data()), SPHRAY_OK);
   for (std::size_t i = 0; i < n; ++i) {
     const sphray::Surface s =
         sphray::surface(spheres_.view(), to_cpp(rays_[i]), {hits[i].t, hits[i].id});
@@ -281,7 +290,7 @@ TEST_P(CApiAgreement, RefitMatchesTheCppApi) {
       << sphray_last_error();
   const std::size_t n = std::min<std::size_t>(rays_.size(), scaled(200'000));
   std::vector<sphray_hit> hits(n);
-  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), hits.data(), n), SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), n, hits.data(), nullptr), SPHRAY_OK);
   for (std::size_t i = 0; i < n; ++i) {
     const sphray::Hit expected = cpp_intersect(rays_[i]);
     ASSERT_TRUE(hits[i].id == expected.id && same_bits(hits[i].t, expected.t)) << "ray " << i;
@@ -301,14 +310,14 @@ TEST_P(CApiAgreement, QueriesBeyondTheClosestHitMatchTheCppApi) {
   std::vector<unsigned char> exits(n * kSlots, 9);
   std::vector<size_t> counts(n), only(n);
   ASSERT_EQ(sphray_intersect_all(scene_, rays_.data(), n, kSlots, hits.data(), exits.data(),
-                                 counts.data()),
+                                 counts.data(), nullptr),
             SPHRAY_OK);
-  ASSERT_EQ(sphray_count_hits(scene_, rays_.data(), only.data(), n), SPHRAY_OK);
+  ASSERT_EQ(sphray_count_hits(scene_, rays_.data(), n, only.data(), nullptr), SPHRAY_OK);
   std::vector<sphray_hit> nearest(n * kSlots, sphray_hit{-1.0f, 7});
   std::vector<unsigned char> nearest_exits(n * kSlots, 9);
   std::vector<size_t> written(n);
   ASSERT_EQ(sphray_intersect_nearest(scene_, rays_.data(), n, kSlots, nearest.data(),
-                                     nearest_exits.data(), written.data()),
+                                     nearest_exits.data(), written.data(), nullptr),
             SPHRAY_OK);
   std::size_t crossings = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -346,8 +355,8 @@ TEST_P(CApiAgreement, QueriesBeyondTheClosestHitMatchTheCppApi) {
     x = uniform(rng, -11, 11);
   std::vector<sphray_nearest_sphere> near(n);
   std::vector<unsigned char> in(n);
-  ASSERT_EQ(sphray_nearest(scene_, points.data(), 2.0f, near.data(), n), SPHRAY_OK);
-  ASSERT_EQ(sphray_inside(scene_, points.data(), in.data(), n), SPHRAY_OK);
+  ASSERT_EQ(sphray_nearest(scene_, points.data(), n, 2.0f, near.data(), nullptr), SPHRAY_OK);
+  ASSERT_EQ(sphray_inside(scene_, points.data(), n, in.data(), nullptr), SPHRAY_OK);
   std::size_t found = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const sphray::Vec3 p{points[3 * i], points[3 * i + 1], points[3 * i + 2]};
@@ -367,7 +376,7 @@ TEST_P(CApiAgreement, QueriesBeyondTheClosestHitMatchTheCppApi) {
     std::uint32_t got[4] = {0, 0, 0, 0};
     std::uint32_t want[4] = {0, 0, 0, 0};
     size_t total = 0;
-    ASSERT_EQ(sphray_overlapping(scene_, c, 1.5f, got, 4, &total), SPHRAY_OK);
+    ASSERT_EQ(sphray_overlapping(scene_, c, 1.5f, 4, got, &total), SPHRAY_OK);
     const sphray::Vec3 p{c[0], c[1], c[2]};
     const std::size_t want_total = bvh_ ? sphray::overlapping(*bvh_, p, 1.5f, want)
                                         : sphray::overlapping(spheres_.view(), p, 1.5f, want);
@@ -406,26 +415,37 @@ TEST_P(CApiAgreement, MaskedQueriesMatchTheCppApi) {
   std::vector<size_t> counts(n), all_counts(n);
   constexpr std::size_t kSlots = 2;
   std::vector<sphray_hit> all(n * kSlots);
-  ASSERT_EQ(sphray_intersect_masked(scene_, rays_.data(), ray_masks.data(), hits.data(), n),
-            SPHRAY_OK);
-  ASSERT_EQ(sphray_occluded_masked(scene_, rays_.data(), ray_masks.data(), occluded.data(), n),
-            SPHRAY_OK);
-  ASSERT_EQ(sphray_count_hits_masked(scene_, rays_.data(), ray_masks.data(), counts.data(), n),
-            SPHRAY_OK);
-  ASSERT_EQ(sphray_intersect_all_masked(scene_, rays_.data(), ray_masks.data(), n, kSlots,
-                                        all.data(), nullptr, all_counts.data()),
+  sphray_query_args masked = SPHRAY_QUERY_ARGS_INIT;
+  masked.masks = ray_masks.data();
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), n, hits.data(), &masked), SPHRAY_OK);
+  ASSERT_EQ(sphray_occluded(scene_, rays_.data(), n, occluded.data(), &masked), SPHRAY_OK);
+  ASSERT_EQ(sphray_count_hits(scene_, rays_.data(), n, counts.data(), &masked), SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect_all(scene_, rays_.data(), n, kSlots, all.data(), nullptr,
+                                 all_counts.data(), &masked),
             SPHRAY_OK);
   std::vector<sphray_hit> nearest(n * kSlots);
   std::vector<size_t> written(n);
-  ASSERT_EQ(sphray_intersect_nearest_masked(scene_, rays_.data(), ray_masks.data(), n, kSlots,
-                                            nearest.data(), nullptr, written.data()),
+  ASSERT_EQ(sphray_intersect_nearest(scene_, rays_.data(), n, kSlots, nearest.data(), nullptr,
+                                     written.data(), &masked),
             SPHRAY_OK);
+  // The arrays form takes the same masks from the same args: sphray_intersect's hits.
+  std::vector<float> ox(n), oy(n), oz(n), dx(n), dy(n), dz(n), tmin(n), tmax(n), t(n);
+  std::vector<std::uint32_t> id(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const sphray_ray& r = rays_[i];
+    ox[i] = r.ox, oy[i] = r.oy, oz[i] = r.oz, dx[i] = r.dx, dy[i] = r.dy, dz[i] = r.dz;
+    tmin[i] = r.tmin, tmax[i] = r.tmax;
+  }
+  const sphray_ray_arrays arrays{ox.data(), oy.data(), oz.data(),   dx.data(),
+                                 dy.data(), dz.data(), tmin.data(), tmax.data()};
+  ASSERT_EQ(sphray_intersect_arrays(scene_, &arrays, n, t.data(), id.data(), &masked), SPHRAY_OK);
   std::size_t hidden = 0;  // rays whose closest hit the masks changed
   for (std::size_t i = 0; i < n; ++i) {
     const sphray::Ray ray = cpp_ray(i);
     const sphray::Hit want =
         bvh_ ? sphray::intersect(*bvh_, ray) : sphray::intersect(spheres_.view(), ray);
     ASSERT_TRUE(hits[i].id == want.id && same_bits(hits[i].t, want.t)) << "ray " << i;
+    ASSERT_TRUE(id[i] == want.id && same_bits(t[i], want.t)) << "arrays, ray " << i;
     if (want.found()) {
       ASSERT_TRUE(all[i * kSlots].id == want.id && same_bits(all[i * kSlots].t, want.t))
           << "ray " << i;
@@ -455,15 +475,13 @@ TEST_P(CApiAgreement, MaskedQueriesMatchTheCppApi) {
                                caller_.size(), sizeof(CallerSphere)),
             SPHRAY_OK);
   std::vector<sphray_hit> again(n);
-  ASSERT_EQ(sphray_intersect_masked(scene_, rays_.data(), ray_masks.data(), again.data(), n),
-            SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), n, again.data(), &masked), SPHRAY_OK);
   for (std::size_t i = 0; i < n; ++i)
     ASSERT_TRUE(again[i].id == hits[i].id && same_bits(again[i].t, hits[i].t)) << "ray " << i;
 
   // NULL masks: every sphere seen again, by every ray but those of mask 0.
   ASSERT_EQ(sphray_scene_set_masks(scene_, nullptr, 0), SPHRAY_OK);
-  ASSERT_EQ(sphray_intersect_masked(scene_, rays_.data(), ray_masks.data(), again.data(), n),
-            SPHRAY_OK);
+  ASSERT_EQ(sphray_intersect(scene_, rays_.data(), n, again.data(), &masked), SPHRAY_OK);
   for (std::size_t i = 0; i < n; ++i) {
     const sphray::Hit want =
         ray_masks[i] == 0 ? sphray::Hit{rays_[i].tmax, SPHRAY_NO_HIT} : cpp_intersect(rays_[i]);
@@ -501,19 +519,152 @@ TEST(CApiInfo, AutoAnswersLikeTheReferenceEitherSideOfTheCrossover) {
       spheres.add({s.x, s.y, s.z}, s.r);
     sphray_scene* scene = nullptr;
     ASSERT_EQ(sphray_scene_create(&caller[0].x, &caller[0].y, &caller[0].z, &caller[0].r, n,
-                                  sizeof(CallerSphere), SPHRAY_ACCEL_AUTO, &scene),
+                                  sizeof(CallerSphere), nullptr, &scene),
               SPHRAY_OK);
     std::size_t size = 0;
     ASSERT_EQ(sphray_scene_size(scene, &size), SPHRAY_OK);
     EXPECT_EQ(size, n);
     const std::vector<sphray_ray> rays = random_rays(scaled(20'000), rng);
     std::vector<sphray_hit> hits(rays.size());
-    ASSERT_EQ(sphray_intersect(scene, rays.data(), hits.data(), rays.size()), SPHRAY_OK);
+    ASSERT_EQ(sphray_intersect(scene, rays.data(), rays.size(), hits.data(), nullptr), SPHRAY_OK);
     for (std::size_t i = 0; i < rays.size(); ++i) {
       const sphray::Hit expected = sphray::scalar::intersect(spheres.view(), to_cpp(rays[i]));
       ASSERT_TRUE(hits[i].id == expected.id && same_bits(hits[i].t, expected.t)) << "ray " << i;
     }
     EXPECT_EQ(sphray_scene_release(scene), SPHRAY_OK);
+  }
+}
+
+// The SPHRAY_ISA_ values and the names sphray_active_isa() and sphray_bvh_isa() give them.
+struct IsaValue {
+  int value;
+  const char* name;
+};
+constexpr IsaValue kIsaValues[] = {{SPHRAY_ISA_SCALAR, "scalar"},
+                                   {SPHRAY_ISA_SSE4_2, "sse4.2"},
+                                   {SPHRAY_ISA_AVX2, "avx2"},
+                                   {SPHRAY_ISA_AVX512, "avx512"},
+                                   {SPHRAY_ISA_NEON, "neon"}};
+
+// The SPHRAY_ISA_ value of a name, or -1 (which no instruction set is).
+int isa_value(const std::string& name) {
+  for (const IsaValue& isa : kIsaValues)
+    if (name == isa.name) return isa.value;
+  return -1;
+}
+
+// sphray_isa_supported says yes to exactly the sets the C++ API lists as built and runnable,
+// to AUTO, and to the set the queries run on; no to values that name no set.
+TEST(CApiInfo, IsaSupportedIsTheCppApisList) {
+  EXPECT_EQ(sphray_isa_supported(SPHRAY_ISA_AUTO), 1);
+  EXPECT_EQ(sphray_isa_supported(SPHRAY_ISA_SCALAR), 1);
+  for (const IsaValue& isa : kIsaValues) {
+    const std::optional<sphray::Isa> cpp = sphray::parse_isa(isa.name);
+    ASSERT_TRUE(cpp.has_value()) << isa.name;
+    const std::span<const sphray::Isa> runnable = sphray::supported_isas();
+    const bool runs = std::find(runnable.begin(), runnable.end(), *cpp) != runnable.end();
+    EXPECT_EQ(sphray_isa_supported(isa.value), runs ? 1 : 0) << isa.name;
+  }
+  EXPECT_EQ(sphray_isa_supported(isa_value(sphray_active_isa())), 1) << sphray_active_isa();
+  for (int unknown : {-1, 6, 99})
+    EXPECT_EQ(sphray_isa_supported(unknown), 0) << unknown;
+}
+
+// sphray_scene_isa of a scene built with the defaults: the set sphray_bvh_isa(count) names for a
+// tree, the one sphray_active_isa() names for brute force.
+TEST(CApiInfo, SceneIsaOfTheDefaultScenes) {
+  std::mt19937 rng(5);
+  for (const auto& [n, accel] : {std::pair<std::size_t, int>{5, SPHRAY_ACCEL_AUTO},
+                                 {1000, SPHRAY_ACCEL_AUTO},
+                                 {1000, SPHRAY_ACCEL_BRUTE},
+                                 {5, SPHRAY_ACCEL_BVH}}) {
+    SCOPED_TRACE(std::to_string(n) + " spheres, accel " + std::to_string(accel));
+    const std::vector<CallerSphere> caller = random_spheres(n, rng);
+    sphray_scene_args args = SPHRAY_SCENE_ARGS_INIT;
+    args.accel = accel;
+    sphray_scene* scene = nullptr;
+    ASSERT_EQ(sphray_scene_create(&caller[0].x, &caller[0].y, &caller[0].z, &caller[0].r, n,
+                                  sizeof(CallerSphere),
+                                  accel == SPHRAY_ACCEL_AUTO ? nullptr : &args, &scene),
+              SPHRAY_OK)
+        << sphray_last_error();
+    const bool tree = accel == SPHRAY_ACCEL_BVH || (accel == SPHRAY_ACCEL_AUTO && n >= 128);
+    const std::string expected = tree ? sphray_bvh_isa(n) : sphray_active_isa();
+    int isa = -7;
+    ASSERT_EQ(sphray_scene_isa(scene, &isa), SPHRAY_OK) << sphray_last_error();
+    EXPECT_EQ(isa, isa_value(expected)) << "expected " << expected;
+    EXPECT_EQ(sphray_scene_release(scene), SPHRAY_OK);
+  }
+}
+
+// A scene given an instruction set is laid out for it and queried with it, whatever SPHRAY_ISA
+// says (ctest runs this under each), and answers as the default scene does, bit for bit:
+// closest hits, occlusion, every crossing. Many spheres (a tree either way) and a few (a flat
+// tree with a chosen set, brute force by default), through AUTO and BVH.
+TEST(CApiInfo, AChosenIsaGivesTheDefaultScenesBits) {
+  std::mt19937 rng(17);
+  for (const std::size_t n : {std::size_t{1000}, std::size_t{5}}) {
+    const std::vector<CallerSphere> caller = random_spheres(n, rng);
+    const std::vector<sphray_ray> rays = random_rays(scaled(20'000), rng);
+    const std::size_t count = rays.size();
+    constexpr std::size_t kSlots = 4;
+    struct Answers {
+      std::vector<sphray_hit> hits, all;
+      std::vector<unsigned char> occluded, exits;
+      std::vector<size_t> counts;
+    };
+    // Every output starts as the same pattern, so that a slot written by one scene and left by
+    // the other shows.
+    const auto answer = [&](const sphray_scene_args* args, Answers& out) {
+      sphray_scene* scene = nullptr;
+      ASSERT_EQ(sphray_scene_create(&caller[0].x, &caller[0].y, &caller[0].z, &caller[0].r, n,
+                                    sizeof(CallerSphere), args, &scene),
+                SPHRAY_OK)
+          << sphray_last_error();
+      out.hits.assign(count, sphray_hit{-1.0f, 7});
+      out.all.assign(count * kSlots, sphray_hit{-1.0f, 7});
+      out.occluded.assign(count, 9);
+      out.exits.assign(count * kSlots, 9);
+      out.counts.assign(count, 99);
+      EXPECT_EQ(sphray_intersect(scene, rays.data(), count, out.hits.data(), nullptr), SPHRAY_OK);
+      EXPECT_EQ(sphray_occluded(scene, rays.data(), count, out.occluded.data(), nullptr),
+                SPHRAY_OK);
+      EXPECT_EQ(sphray_intersect_all(scene, rays.data(), count, kSlots, out.all.data(),
+                                     out.exits.data(), out.counts.data(), nullptr),
+                SPHRAY_OK);
+      if (args != nullptr) {
+        int isa = -7;
+        EXPECT_EQ(sphray_scene_isa(scene, &isa), SPHRAY_OK);
+        EXPECT_EQ(isa, args->isa) << "the scene's instruction set";
+      }
+      EXPECT_EQ(sphray_scene_release(scene), SPHRAY_OK);
+    };
+    Answers want;
+    answer(nullptr, want);
+    if (HasFatalFailure()) return;
+    const std::size_t found = static_cast<std::size_t>(
+        std::count_if(want.hits.begin(), want.hits.end(),
+                      [](const sphray_hit& h) { return h.id != SPHRAY_NO_HIT; }));
+    EXPECT_GT(found, count / 20) << n << " spheres: the rays do meet spheres";
+    for (const IsaValue& isa : kIsaValues) {
+      if (sphray_isa_supported(isa.value) != 1) continue;
+      for (const int accel : {SPHRAY_ACCEL_AUTO, SPHRAY_ACCEL_BVH}) {
+        SCOPED_TRACE(std::to_string(n) + " spheres, isa " + isa.name + ", accel " +
+                     std::to_string(accel));
+        sphray_scene_args args = SPHRAY_SCENE_ARGS_INIT;
+        args.accel = accel;
+        args.isa = isa.value;
+        Answers got;
+        answer(&args, got);
+        if (HasFatalFailure()) return;
+        EXPECT_EQ(std::memcmp(got.hits.data(), want.hits.data(), count * sizeof(sphray_hit)), 0);
+        EXPECT_EQ(got.occluded, want.occluded);
+        EXPECT_EQ(std::memcmp(got.all.data(), want.all.data(), count * kSlots * sizeof(sphray_hit)),
+                  0);
+        EXPECT_EQ(got.exits, want.exits);
+        EXPECT_EQ(got.counts, want.counts);
+      }
+    }
   }
 }
 

@@ -40,7 +40,7 @@ class CParticles : public ::testing::Test {
 std::vector<sphray_hit> hits_of(const float* cx, const float* cy, const float* cz, const float* r,
                                 size_t count) {
   sphray_scene* scene = nullptr;
-  EXPECT_EQ(sphray_scene_create(cx, cy, cz, r, count, 0, SPHRAY_ACCEL_AUTO, &scene), SPHRAY_OK)
+  EXPECT_EQ(sphray_scene_create(cx, cy, cz, r, count, 0, nullptr, &scene), SPHRAY_OK)
       << sphray_last_error();
   std::vector<sphray_ray> rays;
   for (int i = 0; i < 64; ++i) {
@@ -50,7 +50,7 @@ std::vector<sphray_hit> hits_of(const float* cx, const float* cy, const float* c
     }
   }
   std::vector<sphray_hit> hits(rays.size());
-  EXPECT_EQ(sphray_intersect(scene, rays.data(), hits.data(), rays.size()), SPHRAY_OK);
+  EXPECT_EQ(sphray_intersect(scene, rays.data(), rays.size(), hits.data(), nullptr), SPHRAY_OK);
   sphray_scene_release(scene);
   return hits;
 }

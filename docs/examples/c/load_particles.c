@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   sphray_particles_arrays(particles, &a);
   sphray_scene* scene;
   /* The arrays are packed: stride 0. The scene copies them, so the file's arrays can go. */
-  int status = sphray_scene_create(a.cx, a.cy, a.cz, a.r, a.count, 0, SPHRAY_ACCEL_AUTO, &scene);
+  int status = sphray_scene_create(a.cx, a.cy, a.cz, a.r, a.count, 0, NULL, &scene);
   const size_t count = a.count;
   const int colours = a.red != NULL;
   sphray_particles_release(particles);
@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
         -2.0f + 0.5f * (float)i, 0.0f, 100.0f, 0.0f, 0.0f, -1.0f, 0.0f, INFINITY};
     rays[i] = ray;
   }
-  sphray_intersect(scene, rays, hits, kRays);
+  sphray_intersect(scene, rays, kRays, hits, NULL);
   for (int i = 0; i < kRays; ++i) {
     if (hits[i].id == SPHRAY_NO_HIT)
       printf("ray from x = %4.1f: no hit\n", rays[i].ox);

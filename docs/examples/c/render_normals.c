@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
   /* The scene: one sphere of radius 0.5 at (0, 0, -1). */
   const float cx = 0.0f, cy = 0.0f, cz = -1.0f, r = 0.5f;
   sphray_scene* scene = NULL;
-  int status = sphray_scene_create(&cx, &cy, &cz, &r, 1, 0, SPHRAY_ACCEL_AUTO, &scene);
+  int status = sphray_scene_create(&cx, &cy, &cz, &r, 1, 0, NULL, &scene);
   if (status != SPHRAY_OK) return fail("sphray_scene_create", status);
 
   const camera cam =
@@ -122,9 +122,12 @@ int main(int argc, char** argv) {
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)
       rays[(size_t)y * (size_t)width + (size_t)x] = camera_ray(&cam, x, y);
-  status = sphray_intersect_parallel(scene, rays, hits, n, 0);
-  if (status != SPHRAY_OK) return fail("sphray_intersect_parallel", status);
-  status = sphray_surface(scene, rays, hits, surfaces, n);
+  /* On every core; the hits are the same on any number of threads. */
+  sphray_query_args args = SPHRAY_QUERY_ARGS_INIT;
+  args.threads = SPHRAY_THREADS_ALL;
+  status = sphray_intersect(scene, rays, n, hits, &args);
+  if (status != SPHRAY_OK) return fail("sphray_intersect", status);
+  status = sphray_surface(scene, rays, hits, n, surfaces);
   if (status != SPHRAY_OK) return fail("sphray_surface", status);
 
   FILE* out = fopen(argv[1], "w");

@@ -9,16 +9,18 @@
 #include <span>
 #include <vector>
 
+#include "c_api/batch_call.hpp"
 #include "c_api/checks.hpp"
 #include "c_api/convert.hpp"
 #include "c_api/last_error.hpp"
+#include "c_api/parallel_chunks.hpp"
 #include "c_api/scene_handle.hpp"
 
 namespace sphray::c_api {
 namespace {
 
 // Up to this many crossings per ray go through a buffer on the stack; more, through one on the
-// heap, made once per call.
+// heap, made once per call for all its threads.
 constexpr std::size_t kStackSlots = 64;
 
 // Which crossings a call wants: every one, counted (intersect_all), or the nearest slots alone
@@ -41,60 +43,59 @@ std::size_t crossings(const Scene& scene, Crossings which, const Ray& ray, std::
   return total;
 }
 
-int intersect_all(const sphray_scene* scene, Crossings which, const sphray_ray* rays,
-                  const std::uint32_t* masks, size_t count, size_t max_hits, sphray_hit* hits,
-                  unsigned char* exits, size_t* counts, const char* function) {
-  if (count == 0) return check_scene(scene, function);  // empty work
-  if (int status = check_query(scene, rays, counts, count, function); status != SPHRAY_OK)
-    return status;
+// Buffers for one ray's crossings in the C++ types, per worker thread: on the stack up to
+// kStackSlots, beyond that the worker's share of one heap buffer made before the threads start.
+class SlotBuffers {
+ public:
+  SlotBuffers(std::size_t max_hits, unsigned workers) : max_hits_(max_hits) {
+    if (max_hits <= kStackSlots) return;
+    heap_slots_.resize(max_hits * workers);
+    heap_flags_ = std::make_unique<bool[]>(max_hits * workers);
+  }
+
+  // Runs use(slots, flags) with the worker's buffers.
+  template <class Use>
+  void with(unsigned worker, Use&& use) {
+    if (max_hits_ <= kStackSlots) {
+      std::array<sphray::Hit, kStackSlots> slots;
+      std::array<bool, kStackSlots> flags;
+      use(std::span<sphray::Hit>(slots.data(), max_hits_),
+          std::span<bool>(flags.data(), max_hits_));
+      return;
+    }
+    const std::size_t first = worker * max_hits_;
+    use(std::span<sphray::Hit>(heap_slots_.data() + first, max_hits_),
+        std::span<bool>(heap_flags_.get() + first, max_hits_));
+  }
+
+ private:
+  std::size_t max_hits_;
+  std::vector<sphray::Hit> heap_slots_;
+  std::unique_ptr<bool[]> heap_flags_;
+};
+
+int intersect_all(const sphray_scene* scene, Crossings which, const sphray_ray* rays, size_t count,
+                  size_t max_hits, sphray_hit* hits, unsigned char* exits, size_t* counts,
+                  const sphray_query_args* args, const char* function) {
+  QueryOptions options;
+  int status = check_batch(scene, rays, counts, count, args, Inputs::rays, function, options);
+  if (status != SPHRAY_OK || count == 0) return status;
   if (max_hits > 0) {
-    if (int status = check_pointer(hits, function, "hits is NULL"); status != SPHRAY_OK)
-      return status;
+    if (status = check_pointer(hits, function, "hits is NULL"); status != SPHRAY_OK) return status;
     if (max_hits > kMaxElements / count)
       return fail(SPHRAY_ERROR_TOO_LARGE, function, "count * max_hits exceeds the address space");
   }
+  const unsigned workers = parallel_threads(count, options.threads);
   return guarded(function, [&] {
-    std::array<sphray::Hit, kStackSlots> stack_slots;
-    std::array<bool, kStackSlots> stack_flags;
-    std::vector<sphray::Hit> heap_slots;
-    std::unique_ptr<bool[]> heap_flags;
-    std::span<sphray::Hit> slots(stack_slots.data(), std::min(max_hits, kStackSlots));
-    std::span<bool> flags(stack_flags.data(), std::min(max_hits, kStackSlots));
-    if (max_hits > kStackSlots) {
-      heap_slots.resize(max_hits);
-      heap_flags = std::make_unique<bool[]>(max_hits);
-      slots = heap_slots;
-      flags = std::span<bool>(heap_flags.get(), max_hits);
-    }
-    for (std::size_t i = 0; i < count; ++i) {
-      counts[i] = crossings(*scene->scene, which, to_ray(rays, masks, i), slots, flags,
-                            hits == nullptr ? nullptr : hits + i * max_hits,
-                            exits == nullptr ? nullptr : exits + i * max_hits);
-    }
-    return SPHRAY_OK;
-  });
-}
-
-// The masked forms: the masks array is required, the rest as the plain forms check it.
-int intersect_all_masked(const sphray_scene* scene, Crossings which, const sphray_ray* rays,
-                         const std::uint32_t* masks, size_t count, size_t max_hits,
-                         sphray_hit* hits, unsigned char* exits, size_t* counts,
-                         const char* function) {
-  if (count == 0) return check_scene(scene, function);  // empty work
-  if (int status = check_pointer(masks, function, "masks is NULL"); status != SPHRAY_OK)
-    return status;
-  return intersect_all(scene, which, rays, masks, count, max_hits, hits, exits, counts, function);
-}
-
-int count_hits(const sphray_scene* scene, const sphray_ray* rays, const std::uint32_t* masks,
-               size_t* counts, size_t count, const char* function) {
-  if (count == 0) return check_scene(scene, function);  // empty work
-  if (int status = check_query(scene, rays, counts, count, function); status != SPHRAY_OK)
-    return status;
-  return guarded(function, [&] {
-    scene->scene->answer([&](const auto& spheres) {
-      for (std::size_t i = 0; i < count; ++i)
-        counts[i] = sphray::count_hits(spheres, to_ray(rays, masks, i));
+    SlotBuffers buffers(max_hits, workers);
+    parallel_chunks(count, workers, [&](unsigned worker, std::size_t begin, std::size_t end) {
+      buffers.with(worker, [&](std::span<sphray::Hit> slots, std::span<bool> flags) {
+        for (std::size_t i = begin; i < end; ++i) {
+          counts[i] = crossings(*scene->scene, which, to_ray(rays, options.masks, i), slots, flags,
+                                hits == nullptr ? nullptr : hits + i * max_hits,
+                                exits == nullptr ? nullptr : exits + i * max_hits);
+        }
+      });
     });
     return SPHRAY_OK;
   });
@@ -108,80 +109,68 @@ using namespace sphray::c_api;
 extern "C" {
 
 int sphray_intersect_all(const sphray_scene* scene, const sphray_ray* rays, size_t count,
-                         size_t max_hits, sphray_hit* hits, unsigned char* exits, size_t* counts) {
-  return intersect_all(scene, Crossings::all, rays, nullptr, count, max_hits, hits, exits, counts,
+                         size_t max_hits, sphray_hit* hits, unsigned char* exits, size_t* counts,
+                         const sphray_query_args* args) {
+  return intersect_all(scene, Crossings::all, rays, count, max_hits, hits, exits, counts, args,
                        "sphray_intersect_all");
-}
-
-int sphray_intersect_all_masked(const sphray_scene* scene, const sphray_ray* rays,
-                                const uint32_t* masks, size_t count, size_t max_hits,
-                                sphray_hit* hits, unsigned char* exits, size_t* counts) {
-  return intersect_all_masked(scene, Crossings::all, rays, masks, count, max_hits, hits, exits,
-                              counts, "sphray_intersect_all_masked");
 }
 
 int sphray_intersect_nearest(const sphray_scene* scene, const sphray_ray* rays, size_t count,
                              size_t max_hits, sphray_hit* hits, unsigned char* exits,
-                             size_t* counts) {
-  return intersect_all(scene, Crossings::nearest, rays, nullptr, count, max_hits, hits, exits,
-                       counts, "sphray_intersect_nearest");
+                             size_t* counts, const sphray_query_args* args) {
+  return intersect_all(scene, Crossings::nearest, rays, count, max_hits, hits, exits, counts, args,
+                       "sphray_intersect_nearest");
 }
 
-int sphray_intersect_nearest_masked(const sphray_scene* scene, const sphray_ray* rays,
-                                    const uint32_t* masks, size_t count, size_t max_hits,
-                                    sphray_hit* hits, unsigned char* exits, size_t* counts) {
-  return intersect_all_masked(scene, Crossings::nearest, rays, masks, count, max_hits, hits, exits,
-                              counts, "sphray_intersect_nearest_masked");
-}
-
-int sphray_count_hits(const sphray_scene* scene, const sphray_ray* rays, size_t* counts,
-                      size_t count) {
-  return count_hits(scene, rays, nullptr, counts, count, "sphray_count_hits");
-}
-
-int sphray_count_hits_masked(const sphray_scene* scene, const sphray_ray* rays,
-                             const uint32_t* masks, size_t* counts, size_t count) {
-  constexpr const char* kFunction = "sphray_count_hits_masked";
-  if (count == 0) return check_scene(scene, kFunction);  // empty work
-  if (int status = check_pointer(masks, kFunction, "masks is NULL"); status != SPHRAY_OK)
-    return status;
-  return count_hits(scene, rays, masks, counts, count, kFunction);
-}
-
-int sphray_nearest(const sphray_scene* scene, const float* points, float max_distance,
-                   sphray_nearest_sphere* out, size_t count) {
-  constexpr const char* kFunction = "sphray_nearest";
-  if (count == 0) return check_scene(scene, kFunction);  // empty work
-  if (int status = check_query(scene, points, out, count, kFunction); status != SPHRAY_OK)
-    return status;
-  return guarded(kFunction, [&] {
+int sphray_count_hits(const sphray_scene* scene, const sphray_ray* rays, size_t count,
+                      size_t* counts, const sphray_query_args* args) {
+  constexpr const char* kFunction = "sphray_count_hits";
+  QueryOptions options;
+  const int status =
+      check_batch(scene, rays, counts, count, args, Inputs::rays, kFunction, options);
+  if (status != SPHRAY_OK || count == 0) return status;
+  return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
     scene->scene->answer([&](const auto& spheres) {
-      for (std::size_t i = 0; i < count; ++i) {
+      for (std::size_t i = begin; i < end; ++i)
+        counts[i] = sphray::count_hits(spheres, to_ray(rays, options.masks, i));
+    });
+  });
+}
+
+int sphray_nearest(const sphray_scene* scene, const float* points, size_t count, float max_distance,
+                   sphray_nearest_sphere* out, const sphray_query_args* args) {
+  constexpr const char* kFunction = "sphray_nearest";
+  QueryOptions options;
+  const int status =
+      check_batch(scene, points, out, count, args, Inputs::points, kFunction, options);
+  if (status != SPHRAY_OK || count == 0) return status;
+  return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
+    scene->scene->answer([&](const auto& spheres) {
+      for (std::size_t i = begin; i < end; ++i) {
         const sphray::Nearest n = sphray::nearest(spheres, point_at(points, i), max_distance);
         out[i] = {n.id, n.distance, n.point.x, n.point.y, n.point.z};
       }
     });
-    return SPHRAY_OK;
   });
 }
 
-int sphray_inside(const sphray_scene* scene, const float* points, unsigned char* inside,
-                  size_t count) {
+int sphray_inside(const sphray_scene* scene, const float* points, size_t count,
+                  unsigned char* inside, const sphray_query_args* args) {
   constexpr const char* kFunction = "sphray_inside";
-  if (count == 0) return check_scene(scene, kFunction);  // empty work
-  if (int status = check_query(scene, points, inside, count, kFunction); status != SPHRAY_OK)
-    return status;
-  return guarded(kFunction, [&] {
+  QueryOptions options;
+  const int status =
+      check_batch(scene, points, inside, count, args, Inputs::points, kFunction, options);
+  if (status != SPHRAY_OK || count == 0) return status;
+  return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
     scene->scene->answer([&](const auto& spheres) {
-      for (std::size_t i = 0; i < count; ++i)
+      for (std::size_t i = begin; i < end; ++i)
         inside[i] = sphray::inside(spheres, point_at(points, i)) ? 1 : 0;
     });
-    return SPHRAY_OK;
   });
 }
 
-int sphray_overlapping(const sphray_scene* scene, const float* centre, float radius, uint32_t* ids,
-                       size_t capacity, size_t* total) {
+int sphray_overlapping(const sphray_scene* scene, const float* centre, float radius,
+                       size_t capacity, uint32_t* ids, size_t* total) {
   constexpr const char* kFunction = "sphray_overlapping";
   int status = check_scene(scene, kFunction);
   if (status == SPHRAY_OK) status = check_pointer(centre, kFunction, "centre is NULL");

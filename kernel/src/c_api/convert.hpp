@@ -1,8 +1,10 @@
-// The C structs to and from the C++ types they mirror. sphray_ray carries no mask: the _masked
-// calls take the rays' masks as an array beside them (sphray.h, docs/decisions.md).
+// The C structs and constants to and from the C++ types they mirror. sphray_ray carries no
+// mask: a query's sphray_query_args give the rays' masks as an array beside them (sphray.h,
+// docs/decisions.md).
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "sphray/sphray.h"
 #include "sphray/sphray.hpp"
@@ -29,6 +31,20 @@ inline sphray_hit_surface to_c(const Surface& s) {
 
 inline Surface from_c(const sphray_hit_surface& s) {
   return {{s.px, s.py, s.pz}, {s.nx, s.ny, s.nz}, s.front_face != 0, {s.ex, s.ey, s.ez}};
+}
+
+/// SPHRAY_ISA_SCALAR ... SPHRAY_ISA_NEON are the Isa enumerators in order, from 1 (0: AUTO).
+static_assert(SPHRAY_ISA_SCALAR == static_cast<int>(Isa::scalar) + 1 &&
+              SPHRAY_ISA_NEON == static_cast<int>(Isa::neon) + 1);
+
+/// The Isa a SPHRAY_ISA_ value names; nothing for SPHRAY_ISA_AUTO or an unknown value.
+inline std::optional<Isa> isa_from_c(int isa) {
+  if (isa < SPHRAY_ISA_SCALAR || isa > SPHRAY_ISA_NEON) return std::nullopt;
+  return static_cast<Isa>(isa - 1);
+}
+
+inline int to_c(Isa isa) {
+  return static_cast<int>(isa) + 1;
 }
 
 inline Vec3 point_at(const float* points, std::size_t i) {

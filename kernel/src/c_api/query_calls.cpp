@@ -1,13 +1,13 @@
-// sphray_intersect, sphray_occluded (and their _parallel forms), sphray_intersect_arrays,
-// sphray_surface, sphray_spawn: each converts between the C structs and sphray::Ray / Hit /
-// Surface (or hands the arrays over as RayArrays / HitArrays) and calls the C++ API.
+// sphray_intersect, sphray_occluded, sphray_intersect_arrays, sphray_surface, sphray_spawn: each
+// converts between the C structs and sphray::Ray / Hit / Surface (or hands the arrays over as
+// RayArrays / HitArrays) and calls the C++ API, on the threads its sphray_query_args ask for.
 #include <algorithm>
 #include <array>
 
+#include "c_api/batch_call.hpp"
 #include "c_api/checks.hpp"
 #include "c_api/convert.hpp"
 #include "c_api/last_error.hpp"
-#include "c_api/parallel_chunks.hpp"
 #include "c_api/scene_handle.hpp"
 
 namespace sphray::c_api {
@@ -60,6 +60,14 @@ void occluded_range(const Scene& scene, const sphray_ray* rays, const std::uint3
       [](bool blocked) -> unsigned char { return blocked ? 1 : 0; });
 }
 
+// The arrays' rays [begin, end) as RayArrays, with their masks (null: every bit).
+sphray::RayArrays ray_range(const sphray_ray_arrays& rays, const std::uint32_t* masks,
+                            std::size_t begin, std::size_t end) {
+  auto from = [begin](const auto* array) { return array == nullptr ? nullptr : array + begin; };
+  return {from(rays.ox), from(rays.oy),   from(rays.oz),   from(rays.dx), from(rays.dy),
+          from(rays.dz), from(rays.tmin), from(rays.tmax), from(masks),   end - begin};
+}
+
 }  // namespace
 }  // namespace sphray::c_api
 
@@ -67,110 +75,49 @@ using namespace sphray::c_api;
 
 extern "C" {
 
-int sphray_intersect(const sphray_scene* scene, const sphray_ray* rays, sphray_hit* hits,
-                     size_t count) {
+int sphray_intersect(const sphray_scene* scene, const sphray_ray* rays, size_t count,
+                     sphray_hit* hits, const sphray_query_args* args) {
   constexpr const char* kFunction = "sphray_intersect";
-  if (count == 0) return check_scene(scene, kFunction);  // empty work
-  if (int status = check_query(scene, rays, hits, count, kFunction); status != SPHRAY_OK)
-    return status;
-  return guarded(kFunction, [&] {
-    intersect_range(*scene->scene, rays, nullptr, hits, 0, count);
-    return SPHRAY_OK;
+  QueryOptions options;
+  const int status = check_batch(scene, rays, hits, count, args, Inputs::rays, kFunction, options);
+  if (status != SPHRAY_OK || count == 0) return status;
+  return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
+    intersect_range(*scene->scene, rays, options.masks, hits, begin, end);
   });
 }
 
-int sphray_intersect_arrays(const sphray_scene* scene, const sphray_ray_arrays* rays, float* t,
-                            uint32_t* id, size_t count) {
+int sphray_occluded(const sphray_scene* scene, const sphray_ray* rays, size_t count,
+                    unsigned char* occluded, const sphray_query_args* args) {
+  constexpr const char* kFunction = "sphray_occluded";
+  QueryOptions options;
+  const int status =
+      check_batch(scene, rays, occluded, count, args, Inputs::rays, kFunction, options);
+  if (status != SPHRAY_OK || count == 0) return status;
+  return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
+    occluded_range(*scene->scene, rays, options.masks, occluded, begin, end);
+  });
+}
+
+int sphray_intersect_arrays(const sphray_scene* scene, const sphray_ray_arrays* rays, size_t count,
+                            float* t, uint32_t* id, const sphray_query_args* args) {
   constexpr const char* kFunction = "sphray_intersect_arrays";
-  if (count == 0) return check_scene(scene, kFunction);  // empty work
-  if (int status = check_query(scene, rays, t, count, kFunction); status != SPHRAY_OK)
-    return status;
-  if (int status = check_pointer(id, kFunction, "id is NULL"); status != SPHRAY_OK) return status;
+  QueryOptions options;
+  int status = check_batch(scene, rays, t, count, args, Inputs::rays, kFunction, options);
+  if (status != SPHRAY_OK || count == 0) return status;
+  if (status = check_pointer(id, kFunction, "id is NULL"); status != SPHRAY_OK) return status;
   const bool complete = rays->ox != nullptr && rays->oy != nullptr && rays->oz != nullptr &&
                         rays->dx != nullptr && rays->dy != nullptr && rays->dz != nullptr;
   if (!complete)
     return fail(SPHRAY_ERROR_NULL_POINTER, kFunction, "a ray origin or direction array is NULL");
-  return guarded(kFunction, [&] {
-    const sphray::RayArrays in{rays->ox, rays->oy,   rays->oz,   rays->dx,   rays->dy,
-                               rays->dz, rays->tmin, rays->tmax, rays->mask, count};
-    const sphray::HitArrays out{t, id, count};
+  return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
+    const sphray::RayArrays in = ray_range(*rays, options.masks, begin, end);
+    const sphray::HitArrays out{t + begin, id + begin, end - begin};
     scene->scene->answer([&](const auto& spheres) { sphray::intersect(spheres, in, out); });
-    return SPHRAY_OK;
-  });
-}
-
-int sphray_occluded(const sphray_scene* scene, const sphray_ray* rays, unsigned char* occluded,
-                    size_t count) {
-  constexpr const char* kFunction = "sphray_occluded";
-  if (count == 0) return check_scene(scene, kFunction);  // empty work
-  if (int status = check_query(scene, rays, occluded, count, kFunction); status != SPHRAY_OK)
-    return status;
-  return guarded(kFunction, [&] {
-    occluded_range(*scene->scene, rays, nullptr, occluded, 0, count);
-    return SPHRAY_OK;
-  });
-}
-
-int sphray_intersect_masked(const sphray_scene* scene, const sphray_ray* rays,
-                            const uint32_t* masks, sphray_hit* hits, size_t count) {
-  constexpr const char* kFunction = "sphray_intersect_masked";
-  if (count == 0) return check_scene(scene, kFunction);  // empty work
-  if (int status = check_query(scene, rays, hits, count, kFunction); status != SPHRAY_OK)
-    return status;
-  if (int status = check_pointer(masks, kFunction, "masks is NULL"); status != SPHRAY_OK)
-    return status;
-  return guarded(kFunction, [&] {
-    intersect_range(*scene->scene, rays, masks, hits, 0, count);
-    return SPHRAY_OK;
-  });
-}
-
-int sphray_occluded_masked(const sphray_scene* scene, const sphray_ray* rays, const uint32_t* masks,
-                           unsigned char* occluded, size_t count) {
-  constexpr const char* kFunction = "sphray_occluded_masked";
-  if (count == 0) return check_scene(scene, kFunction);  // empty work
-  if (int status = check_query(scene, rays, occluded, count, kFunction); status != SPHRAY_OK)
-    return status;
-  if (int status = check_pointer(masks, kFunction, "masks is NULL"); status != SPHRAY_OK)
-    return status;
-  return guarded(kFunction, [&] {
-    occluded_range(*scene->scene, rays, masks, occluded, 0, count);
-    return SPHRAY_OK;
-  });
-}
-
-int sphray_intersect_parallel(const sphray_scene* scene, const sphray_ray* rays, sphray_hit* hits,
-                              size_t count, unsigned threads) {
-  constexpr const char* kFunction = "sphray_intersect_parallel";
-  if (count == 0) return check_scene(scene, kFunction);  // empty work
-  if (int status = check_query(scene, rays, hits, count, kFunction); status != SPHRAY_OK)
-    return status;
-  return guarded(kFunction, [&] {
-    const Scene& s = *scene->scene;
-    parallel_chunks(count, threads, [&](std::size_t begin, std::size_t end) {
-      intersect_range(s, rays, nullptr, hits, begin, end);
-    });
-    return SPHRAY_OK;
-  });
-}
-
-int sphray_occluded_parallel(const sphray_scene* scene, const sphray_ray* rays,
-                             unsigned char* occluded, size_t count, unsigned threads) {
-  constexpr const char* kFunction = "sphray_occluded_parallel";
-  if (count == 0) return check_scene(scene, kFunction);  // empty work
-  if (int status = check_query(scene, rays, occluded, count, kFunction); status != SPHRAY_OK)
-    return status;
-  return guarded(kFunction, [&] {
-    const Scene& s = *scene->scene;
-    parallel_chunks(count, threads, [&](std::size_t begin, std::size_t end) {
-      occluded_range(s, rays, nullptr, occluded, begin, end);
-    });
-    return SPHRAY_OK;
   });
 }
 
 int sphray_surface(const sphray_scene* scene, const sphray_ray* rays, const sphray_hit* hits,
-                   sphray_hit_surface* surfaces, size_t count) {
+                   size_t count, sphray_hit_surface* surfaces) {
   constexpr const char* kFunction = "sphray_surface";
   if (count == 0) return check_scene(scene, kFunction);  // empty work
   if (int status = check_query(scene, rays, surfaces, count, kFunction); status != SPHRAY_OK)
@@ -187,8 +134,8 @@ int sphray_surface(const sphray_scene* scene, const sphray_ray* rays, const sphr
   });
 }
 
-int sphray_spawn(const sphray_hit_surface* surfaces, const float* dirs, sphray_ray* rays,
-                 size_t count) {
+int sphray_spawn(const sphray_hit_surface* surfaces, const float* dirs, size_t count,
+                 sphray_ray* rays) {
   constexpr const char* kFunction = "sphray_spawn";
   if (count == 0) return SPHRAY_OK;  // empty work: nothing read, nothing written
   int status = check_pointer(surfaces, kFunction, "surfaces is NULL");

@@ -1,9 +1,14 @@
-// sphray_scene_create, sphray_scene_refit, sphray_scene_size, sphray_scene_release.
+// sphray_isa_supported, sphray_scene_create, sphray_scene_isa, sphray_scene_refit,
+// sphray_scene_set_masks, sphray_scene_size, sphray_scene_release.
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <optional>
+#include <span>
 
 #include "c_api/checks.hpp"
+#include "c_api/convert.hpp"
 #include "c_api/last_error.hpp"
 #include "c_api/scene_handle.hpp"
 #include "c_api/sphere_arrays.hpp"
@@ -15,8 +20,47 @@ namespace {
 // spheres on, a tree beats brute force.
 constexpr std::size_t kBvhFromSpheres = 128;
 
-bool wants_bvh(int accel, std::size_t count) {
-  return accel == SPHRAY_ACCEL_BVH || (accel == SPHRAY_ACCEL_AUTO && count >= kBvhFromSpheres);
+// A scene's options (sphray_scene_args) with their defaults filled in.
+struct SceneOptions {
+  int accel = SPHRAY_ACCEL_AUTO;
+  std::optional<Isa> isa;  // nothing: the process's choice
+};
+
+bool runs_here(Isa isa) {
+  const std::span<const Isa> isas = supported_isas();
+  return std::find(isas.begin(), isas.end(), isa) != isas.end();
+}
+
+// What create's args say (NULL: the defaults), or the failure.
+int read_scene_args(const sphray_scene_args* args, const char* function, SceneOptions& options) {
+  if (args == nullptr) return SPHRAY_OK;
+  if (args->struct_size != sizeof(sphray_scene_args))
+    return fail(SPHRAY_ERROR_INVALID_ARGUMENT, function,
+                "args->struct_size is not sizeof(sphray_scene_args)");
+  if (args->accel != SPHRAY_ACCEL_AUTO && args->accel != SPHRAY_ACCEL_BRUTE &&
+      args->accel != SPHRAY_ACCEL_BVH)
+    return fail(SPHRAY_ERROR_INVALID_ARGUMENT, function, "accel is not a SPHRAY_ACCEL_ value");
+  options.accel = args->accel;
+  if (args->isa == SPHRAY_ISA_AUTO) return SPHRAY_OK;
+  options.isa = isa_from_c(args->isa);
+  if (!options.isa)
+    return fail(SPHRAY_ERROR_INVALID_ARGUMENT, function, "isa is not a SPHRAY_ISA_ value");
+  if (!runs_here(*options.isa))
+    return fail(SPHRAY_ERROR_INVALID_ARGUMENT, function,
+                "isa cannot run here (see sphray_isa_supported)");
+  // Brute force on a view runs on the process's instruction set; a scene that names one gets
+  // a tree, which is laid out for it (docs/decisions.md, "The C API's second version").
+  if (options.accel == SPHRAY_ACCEL_BRUTE)
+    return fail(SPHRAY_ERROR_INVALID_ARGUMENT, function,
+                "an isa is chosen for a tree: use SPHRAY_ACCEL_AUTO or SPHRAY_ACCEL_BVH");
+  return SPHRAY_OK;
+}
+
+// A tree from kBvhFromSpheres spheres on, or at every size when the scene names an
+// instruction set: a small one is built flat and answers as brute force on that set's batches.
+bool wants_bvh(const SceneOptions& options, std::size_t count) {
+  return options.accel == SPHRAY_ACCEL_BVH ||
+         (options.accel == SPHRAY_ACCEL_AUTO && (options.isa || count >= kBvhFromSpheres));
 }
 
 // Sphere i's mask from an array of stride_bytes steps (0: packed); memcpy reads it whatever the
@@ -52,21 +96,43 @@ using namespace sphray::c_api;
 
 extern "C" {
 
+int sphray_isa_supported(int isa) {
+  if (isa == SPHRAY_ISA_AUTO) return 1;
+  const std::optional<sphray::Isa> named = isa_from_c(isa);
+  return named && runs_here(*named) ? 1 : 0;
+}
+
 int sphray_scene_create(const float* cx, const float* cy, const float* cz, const float* r,
-                        size_t count, size_t stride_bytes, int accel, sphray_scene** out) {
+                        size_t count, size_t stride_bytes, const sphray_scene_args* args,
+                        sphray_scene** out) {
   constexpr const char* kFunction = "sphray_scene_create";
   const SphereArrays arrays{cx, cy, cz, r, count, stride_bytes};
+  SceneOptions options;
   if (int status = check_pointer(out, kFunction, "out is NULL"); status != SPHRAY_OK) return status;
   if (int status = check(arrays, kFunction); status != SPHRAY_OK) return status;
-  if (accel != SPHRAY_ACCEL_AUTO && accel != SPHRAY_ACCEL_BRUTE && accel != SPHRAY_ACCEL_BVH)
-    return fail(SPHRAY_ERROR_INVALID_ARGUMENT, kFunction, "accel is not a SPHRAY_ACCEL_ value");
+  if (int status = read_scene_args(args, kFunction, options); status != SPHRAY_OK) return status;
   return guarded(kFunction, [&] {
     auto scene = std::make_unique<Scene>();
     scene->spheres = copy(arrays);
-    if (wants_bvh(accel, count)) scene->bvh.emplace(scene->spheres.view());
+    if (wants_bvh(options, count)) {
+      const sphray::SphereView view = scene->spheres.view();
+      if (options.isa)
+        scene->bvh.emplace(view, *options.isa);
+      else
+        scene->bvh.emplace(view);
+    }
     *out = adopt(scene.release());
     return SPHRAY_OK;
   });
+}
+
+int sphray_scene_isa(const sphray_scene* handle, int* isa) {
+  constexpr const char* kFunction = "sphray_scene_isa";
+  if (int status = check_scene(handle, kFunction); status != SPHRAY_OK) return status;
+  if (int status = check_pointer(isa, kFunction, "isa is NULL"); status != SPHRAY_OK) return status;
+  const Scene& scene = *handle->scene;
+  *isa = to_c(scene.bvh ? scene.bvh->isa() : sphray::active_isa());
+  return SPHRAY_OK;
 }
 
 int sphray_scene_refit(sphray_scene* handle, const float* cx, const float* cy, const float* cz,

@@ -8,7 +8,7 @@
  *   if (sphray_particles_load("cloud.xyz", 0.5f, &p) != SPHRAY_OK)
  *     fprintf(stderr, "%s\n", sphray_particles_last_error());
  *   sphray_particles_arrays(p, &a);
- *   sphray_scene_create(a.cx, a.cy, a.cz, a.r, a.count, 0, SPHRAY_ACCEL_AUTO, &scene);
+ *   sphray_scene_create(a.cx, a.cy, a.cz, a.r, a.count, 0, NULL, &scene);
  *   sphray_particles_release(p);   // after the scene is made: the scene has its own copy
  *
  * Status codes are sphray.h's, plus SPHRAY_ERROR_PARTICLE_FILE; every function that can fail
@@ -36,7 +36,7 @@ extern "C" {
 typedef struct sphray_particles sphray_particles;
 
 /* A handle's particles as one packed array per quantity (count floats each), particle i being
- * sphere id i: sphray_scene_create(a.cx, a.cy, a.cz, a.r, a.count, 0, accel, &scene). red,
+ * sphere id i: sphray_scene_create(a.cx, a.cy, a.cz, a.r, a.count, 0, args, &scene). red,
  * green and blue (in [0, 1]) are NULL when the file has no colour columns (a .sphp file never
  * has). The arrays live as long as the handle. */
 typedef struct sphray_particle_arrays {

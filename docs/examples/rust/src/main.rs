@@ -123,7 +123,7 @@ fn to_byte(c: f32) -> u8 {
 fn render(path: &str, width: u32, height: u32) -> Result<(), String> {
     let (cx, cy, cz, r) = (0.0f32, 0.0f32, -1.0f32, 0.5f32);
     let mut scene: *mut sphray_scene = ptr::null_mut();
-    check(unsafe { sphray_scene_create(&cx, &cy, &cz, &r, 1, 0, SPHRAY_ACCEL_AUTO, &mut scene) })?;
+    check(unsafe { sphray_scene_create(&cx, &cy, &cz, &r, 1, 0, ptr::null(), &mut scene) })?;
 
     let camera = Camera::new(
         vec3(0.0, 0.0, 0.0),
@@ -140,16 +140,21 @@ fn render(path: &str, width: u32, height: u32) -> Result<(), String> {
     let n = rays.len();
     let mut hits = vec![sphray_hit::default(); n];
     let mut surfaces = vec![sphray_hit_surface::default(); n];
+    // Every core; the hits are the same on any number of threads.
+    let args = sphray_query_args {
+        threads: SPHRAY_THREADS_ALL,
+        ..Default::default()
+    };
     let traced =
-        check(unsafe { sphray_intersect_parallel(scene, rays.as_ptr(), hits.as_mut_ptr(), n, 0) })
+        check(unsafe { sphray_intersect(scene, rays.as_ptr(), n, hits.as_mut_ptr(), &args) })
             .and_then(|_| {
                 check(unsafe {
                     sphray_surface(
                         scene,
                         rays.as_ptr(),
                         hits.as_ptr(),
-                        surfaces.as_mut_ptr(),
                         n,
+                        surfaces.as_mut_ptr(),
                     )
                 })
             });

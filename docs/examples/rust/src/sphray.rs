@@ -6,8 +6,8 @@ use std::ffi::CStr;
 use std::os::raw::{c_char, c_int, c_uint};
 
 pub const SPHRAY_OK: c_int = 0;
-pub const SPHRAY_ACCEL_AUTO: c_int = 0;
 pub const SPHRAY_NO_HIT: u32 = 0xffff_ffff;
+pub const SPHRAY_THREADS_ALL: c_uint = 0xffff_ffff;
 
 #[repr(C)]
 #[derive(Clone, Copy, Default)]
@@ -44,6 +44,33 @@ pub struct sphray_hit_surface {
     pub front_face: i32,
 }
 
+/// A scene's options (accel, isa); this tracer passes null, the defaults.
+#[repr(C)]
+pub struct sphray_scene_args {
+    pub struct_size: usize,
+    pub accel: c_int,
+    pub isa: c_int,
+}
+
+/// A query's options: masks (null: every bit) and threads.
+#[repr(C)]
+pub struct sphray_query_args {
+    pub struct_size: usize,
+    pub masks: *const u32,
+    pub threads: c_uint,
+}
+
+impl Default for sphray_query_args {
+    /// SPHRAY_QUERY_ARGS_INIT: struct_size set, every option its default.
+    fn default() -> Self {
+        sphray_query_args {
+            struct_size: std::mem::size_of::<sphray_query_args>(),
+            masks: std::ptr::null(),
+            threads: 0,
+        }
+    }
+}
+
 /// Opaque: only ever behind a pointer.
 #[repr(C)]
 pub struct sphray_scene {
@@ -61,23 +88,23 @@ extern "C" {
         r: *const f32,
         count: usize,
         stride_bytes: usize,
-        accel: c_int,
+        args: *const sphray_scene_args,
         out: *mut *mut sphray_scene,
     ) -> c_int;
     pub fn sphray_scene_release(scene: *mut sphray_scene) -> c_int;
-    pub fn sphray_intersect_parallel(
+    pub fn sphray_intersect(
         scene: *const sphray_scene,
         rays: *const sphray_ray,
-        hits: *mut sphray_hit,
         count: usize,
-        threads: c_uint,
+        hits: *mut sphray_hit,
+        args: *const sphray_query_args,
     ) -> c_int;
     pub fn sphray_surface(
         scene: *const sphray_scene,
         rays: *const sphray_ray,
         hits: *const sphray_hit,
-        surfaces: *mut sphray_hit_surface,
         count: usize,
+        surfaces: *mut sphray_hit_surface,
     ) -> c_int;
 }
 
