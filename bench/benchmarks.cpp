@@ -8,7 +8,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "bench_agreement.hpp"
+#include "bench/bench_agreement.hpp"
 #include "implementations.hpp"
 
 #if defined(__x86_64__) || defined(__i386__)

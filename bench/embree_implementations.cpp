@@ -10,8 +10,8 @@
 #include <memory>
 #include <string>
 
-#include "embree_crossings.hpp"  // render/src: the Embree glue `sphray bench` uses too
-#include "embree_spheres.hpp"
+#include "bench/embree_crossings.hpp"  // render/src/bench: the Embree glue `sphray bench` uses too
+#include "bench/embree_spheres.hpp"
 #include "implementations.hpp"
 #include "threads.hpp"
 

@@ -5,8 +5,8 @@
 //
 // The every-crossing queries also run beside Embree's way to the same answer (an intersection
 // filter that records each hit and rejects it), on camera and incoherent rays, each checked
-// against the scalar reference's crossings on a sample (render/src/bench_agreement.hpp). Names:
-// every_hit/<scene>/<coherent|incoherent>/<row>/threads:1.
+// against the scalar reference's crossings on a sample (render/src/bench/bench_agreement.hpp).
+// Names: every_hit/<scene>/<coherent|incoherent>/<row>/threads:1.
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -18,7 +18,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "bench_agreement.hpp"
+#include "bench/bench_agreement.hpp"
 #include "implementations.hpp"
 #include "threads.hpp"
 #include "workload.hpp"

@@ -19,7 +19,7 @@ namespace {
 
 constexpr std::size_t kSample = 1024;
 
-// The renderer's sun (render/src/renderer.cpp).
+// The renderer's sun (render/src/frame/renderer.cpp).
 Vec3 sun() {
   return normalize(Vec3{0.6f, 1.0f, 0.45f});
 }

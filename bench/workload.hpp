@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "random_rays.hpp"
+#include "bench/random_rays.hpp"
 #include "sphray/sphray.hpp"
 
 namespace sphray::bench {
@@ -62,7 +62,7 @@ const Workload& workload(std::string_view scene, RayKind kind);
 /// camera image) between kMinBruteRays and kFullRays.
 std::size_t brute_ray_count(std::size_t spheres);
 
-// Random rays: the recipe `sphray bench` uses (render/src/random_rays.hpp), with tmin 0 here.
+// Random rays: the recipe `sphray bench` uses (render/src/bench/random_rays.hpp), with tmin 0 here.
 using render::bench::random_rays;
 using render::bench::sphere_box;
 

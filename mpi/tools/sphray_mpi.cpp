@@ -31,8 +31,8 @@
 #include <string>
 #include <thread>
 
-#include "atomic_output.hpp"
-#include "render_args.hpp"
+#include "command/render_args.hpp"
+#include "image/atomic_output.hpp"
 #include "sphray/mpi/agreement.hpp"
 #include "sphray/mpi/distributed_scene.hpp"
 #include "sphray/mpi/particle_file.hpp"

@@ -20,7 +20,7 @@ namespace sphray::python {
 namespace py = pybind11;
 
 /// accel="auto" builds a SphereBVH from this many spheres on, as the renderer does and for the
-/// same reason: about where the tree overtakes brute force (render/src/scene_queries.hpp).
+/// same reason: about where the tree overtakes brute force (render/src/frame/scene_queries.hpp).
 inline constexpr std::size_t kBvhFromSpheres = 128;
 
 class Scene {

@@ -15,7 +15,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "scene_queries.hpp"
+#include "frame/scene_queries.hpp"
 #include "sphray/render/camera.hpp"
 #include "sphray/render/renderer.hpp"
 #include "sphray/render/scene.hpp"

@@ -16,12 +16,12 @@
 #include <string>
 #include <thread>
 
-#include "bench_command.hpp"
-#include "command_failure.hpp"
-#include "convert_command.hpp"
-#include "progress_report.hpp"
-#include "render_args.hpp"
-#include "scene_queries.hpp"
+#include "bench/bench_command.hpp"
+#include "command/command_failure.hpp"
+#include "command/convert_command.hpp"
+#include "command/progress_report.hpp"
+#include "command/render_args.hpp"
+#include "frame/scene_queries.hpp"
 #include "sphray/render/image_file.hpp"
 #include "sphray/render/memory_check.hpp"
 #include "sphray/render/renderer.hpp"

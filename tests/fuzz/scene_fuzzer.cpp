@@ -18,7 +18,7 @@
 #include <string>
 #include <string_view>
 
-#include "json_position.hpp"
+#include "scene/json_position.hpp"
 #include "sphray/render/camera.hpp"
 #include "sphray/render/scene.hpp"
 

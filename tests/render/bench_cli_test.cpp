@@ -8,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench_crossings.hpp"
-#include "bench_rays.hpp"
-#include "bench_report.hpp"
+#include "bench/bench_crossings.hpp"
+#include "bench/bench_rays.hpp"
+#include "bench/bench_report.hpp"
 #include "command_run.hpp"
 #include "sphray/render/scene.hpp"
 #include "sphray/sphray.hpp"

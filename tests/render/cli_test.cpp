@@ -18,8 +18,8 @@
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>
 
+#include "command/progress_report.hpp"
 #include "command_run.hpp"
-#include "progress_report.hpp"
 #include "test_files.hpp"
 
 namespace {

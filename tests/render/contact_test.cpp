@@ -141,9 +141,9 @@ class Random {
   std::uint64_t state_;
 };
 
-// The camera of render/src/camera.cpp (the book's), in double: a pinhole at lookfrom, a viewport
-// at distance 1 whose height follows from vfov, rows running downwards, image point (px, py)
-// with pixel (x, y) covering [x, x + 1) x [y, y + 1).
+// The camera of render/src/frame/camera.cpp (the book's), in double: a pinhole at lookfrom, a
+// viewport at distance 1 whose height follows from vfov, rows running downwards, image point
+// (px, py) with pixel (x, y) covering [x, x + 1) x [y, y + 1).
 class ReferenceCamera {
  public:
   ReferenceCamera(const CameraSpec& spec, int width, int height) : origin_(d3(spec.lookfrom)) {
@@ -296,7 +296,7 @@ struct PixelStats {
   }
 };
 
-// A pixel's byte as path mode writes it (render/src/path_tracer.cpp, encode): gamma 2, then
+// A pixel's byte as path mode writes it (render/src/path/path_tracer.cpp, encode): gamma 2, then
 // int(255.999 c) clamped.
 double byte_of(double radiance) {
   return to_byte(std::sqrt(static_cast<float>(std::max(radiance, 0.0))));

@@ -11,8 +11,8 @@
 #include <fstream>
 #include <string>
 
-#include "json_position.hpp"
-#include "scene_text.hpp"
+#include "scene/json_position.hpp"
+#include "scene/scene_text.hpp"
 #include "sphray/render/scene.hpp"
 
 namespace sphray::render {

@@ -1,4 +1,4 @@
-// The path tracer's wavefront shading (render/src/wavefront.hpp), each instruction set's copy,
+// The path tracer's wavefront shading (render/src/path/wavefront.hpp), each instruction set's copy,
 // against the one-path functions it stands for: sphray::surface, scatter and sphray::spawn,
 // Sky::radiance and PathRandom. Every bounce of every path must agree bit for bit (next ray,
 // throughput, random counter, the sky light a miss brings), so that the images stay what the
@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "path/wavefront.hpp"
 #include "sphray/render/camera.hpp"
 #include "sphray/render/renderer.hpp"
-#include "wavefront.hpp"
 
 namespace sphray::render {
 namespace {

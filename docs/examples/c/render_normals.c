@@ -4,8 +4,8 @@
  *   cc -std=c99 -O2 render_normals.c $(pkg-config --cflags --libs sphray) -lm -o render_normals
  *   ./render_normals image.ppm [WIDTH HEIGHT]        (default 400 x 225, the scene's size)
  *
- * The camera is the renderer's (render/src/camera.cpp), operation for operation, so that every
- * ray has the same bits; the image is a PPM P3 file as the renderer writes it. */
+ * The camera is the renderer's (render/src/frame/camera.cpp), operation for operation, so that
+ * every ray has the same bits; the image is a PPM P3 file as the renderer writes it. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

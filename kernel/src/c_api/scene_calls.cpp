@@ -16,7 +16,7 @@
 namespace sphray::c_api {
 namespace {
 
-// The renderer's crossover (render/src/scene_queries.hpp, docs/bvh.md): from this many
+// The renderer's crossover (render/src/frame/scene_queries.hpp, docs/bvh.md): from this many
 // spheres on, a tree beats brute force.
 constexpr std::size_t kBvhFromSpheres = 128;
 

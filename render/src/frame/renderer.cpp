@@ -1,0 +1,323 @@
+#include "sphray/render/renderer.hpp"
+
+#include "sphray/render/material.hpp"
+
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <span>
+#include <stdexcept>
+
+#include "frame/scene_queries.hpp"
+#include "frame/tile_tasks.hpp"
+#include "sphray/render/camera.hpp"
+#include "sphray/render/path_tracer.hpp"
+
+namespace sphray::render {
+namespace {
+
+constexpr std::array<std::string_view, 6> kModeNames = {"normals", "flat",   "depth",
+                                                        "id",      "shaded", "path"};
+constexpr int kMaxSpp = 65536;
+constexpr int kMaxThreads = 1024;
+constexpr std::size_t kTilePixels = kTileSize * kTileSize;
+
+// Where the sun is in shaded mode: above, to the right and in front of the usual cameras.
+const Vec3 kLight = normalize(Vec3{0.6f, 1.0f, 0.45f});
+constexpr float kAmbient = 0.15f;
+
+// SplitMix64's finaliser (the path tracer's, material.hpp): a well-mixed 64-bit value from any
+// counter.
+std::uint64_t mix(std::uint64_t z) {
+  return PathRandom::mix(z);
+}
+
+// The offset of sample s of pixel p inside the pixel, from (p, s, seed) alone, so no thread
+// or tile order can change it. One sample per pixel goes through the centre.
+std::array<float, 2> jitter(std::uint64_t pixel, int spp, int s, std::uint64_t seed) {
+  if (spp == 1) return {0.5f, 0.5f};
+  std::uint64_t counter = pixel * static_cast<std::uint64_t>(spp) + static_cast<std::uint64_t>(s);
+  std::uint64_t bits = mix(seed * 0x9e3779b97f4a7c15ull + mix(counter + 1));
+  return {static_cast<float>(bits >> 40) * 0x1p-24f,
+          static_cast<float>((bits >> 16) & 0xffffffu) * 0x1p-24f};
+}
+
+Vec3 id_color(std::uint32_t id) {
+  std::uint64_t h = mix(std::uint64_t{id} + 1);  // mix(0) is 0: start ids at 1
+  auto channel = [h](int shift) {
+    return 0.2f + 0.8f * static_cast<float>((h >> shift) & 0xffu) / 255.0f;
+  };
+  return {channel(0), channel(8), channel(16)};
+}
+
+// Shades one ray's hit in the chosen mode: arithmetic on the hit and its surface, and in
+// shaded mode whether the hit sees the light (its shadow ray, traced by the caller).
+class Shader {
+ public:
+  Shader(const Scene& scene, Mode mode) : scene_(scene), view_(scene.spheres.view()), mode_(mode) {
+    // Depth: grey = D / (D + distance), D the camera's distance to what it looks at, so the
+    // point of interest is mid-grey whatever the scene's scale.
+    depth_scale_ = length(scene.camera.lookfrom - scene.camera.lookat);
+  }
+
+  bool casts_shadows() const { return mode_ == Mode::shaded; }
+
+  // Shaded mode: the ray from the hit towards the light, or none where the surface faces away
+  // from it (or the ray missed).
+  std::optional<Ray> shadow_ray(const Ray& ray, const Hit& hit) const {
+    if (!hit.found()) return std::nullopt;
+    const Surface s = surface(view_, ray, hit);
+    const Vec3 normal = s.front_face ? s.normal : -s.normal;
+    if (!(dot(normal, kLight) > 0.0f)) return std::nullopt;
+    // Start the shadow ray a little off the surface, relative to the point's magnitude, so
+    // rounding cannot put it back inside the sphere it leaves.
+    const Vec3 p = s.point;
+    const float scale = std::max({1.0f, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    return Ray{p + (1e-4f * scale) * normal, kLight};
+  }
+
+  // lit: shaded mode, whether the hit's shadow ray reached the light.
+  Vec3 shade(const Ray& ray, const Hit& hit, bool lit) const {
+    if (!hit.found()) return mode_ == Mode::depth || mode_ == Mode::id ? Vec3{0, 0, 0} : sky(ray);
+    switch (mode_) {
+      case Mode::normals:
+        return 0.5f * (surface(view_, ray, hit).normal + Vec3{1, 1, 1});
+      case Mode::flat:
+        return color_of(scene_, hit.id);  // unshaded; grey without colours
+      case Mode::depth: {
+        float grey = depth_scale_ / (depth_scale_ + hit.t * length(ray.dir));
+        return {grey, grey, grey};
+      }
+      case Mode::id:
+        return id_color(hit.id);
+      case Mode::shaded:
+        return diffuse(ray, hit, lit);
+      case Mode::path:
+        break;  // render_path
+    }
+    return {0, 0, 0};
+  }
+
+  // The output byte of an averaged colour; shaded mode is gamma-2 encoded as in the book.
+  float encode(float c) const { return mode_ == Mode::shaded ? std::sqrt(std::max(c, 0.0f)) : c; }
+
+ private:
+  Vec3 diffuse(const Ray& ray, const Hit& hit, bool lit) const {
+    const Surface s = surface(view_, ray, hit);
+    const Vec3 normal = s.front_face ? s.normal : -s.normal;
+    const Vec3 albedo = color_of(scene_, hit.id);  // grey without colours
+    const float light = lit ? dot(normal, kLight) : 0.0f;
+    return (kAmbient + (1.0f - kAmbient) * light) * albedo;
+  }
+
+  const Scene& scene_;
+  SphereView view_;
+  Mode mode_;
+  float depth_scale_;
+};
+
+struct TileRect {
+  int x0, y0, width, height;
+};
+
+TileRect tile_rect(std::size_t tile, int image_width, int image_height) {
+  int tiles_across = (image_width + kTileSize - 1) / kTileSize;
+  int x0 = static_cast<int>(tile % static_cast<std::size_t>(tiles_across)) * kTileSize;
+  int y0 = static_cast<int>(tile / static_cast<std::size_t>(tiles_across)) * kTileSize;
+  return {x0, y0, std::min(kTileSize, image_width - x0), std::min(kTileSize, image_height - y0)};
+}
+
+// Shaded mode: the shadow rays of a batch of hits, traced as one batch; lit[i] says whether
+// hit i sees the light. Returns the number of shadow rays.
+std::uint64_t trace_shadows(const Shader& shader, const RayQueries& queries,
+                            std::span<const Ray> rays, std::span<const Hit> hits,
+                            std::span<bool> lit) {
+  std::array<Ray, kTilePixels> shadows;
+  std::array<std::uint16_t, kTilePixels> owner;  // the hit each shadow ray starts from
+  std::array<bool, kTilePixels> blocked;
+  std::size_t m = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    lit[i] = false;
+    if (const auto shadow = shader.shadow_ray(rays[i], hits[i])) {
+      shadows[m] = *shadow;
+      owner[m] = static_cast<std::uint16_t>(i);
+      ++m;
+    }
+  }
+  queries.occluded(std::span(shadows.data(), m), std::span(blocked.data(), m));
+  for (std::size_t k = 0; k < m; ++k)
+    lit[owner[k]] = !blocked[k];
+  return m;
+}
+
+// Renders one tile into image: per sample, the tile's camera rays go to the kernel as one
+// stream (in shaded mode, then their shadow rays as another), then each hit is shaded and
+// summed. Fixed-size buffers on the stack: no allocation.
+std::uint64_t render_tile(const TileRect& r, const Camera& camera, const RayQueries& queries,
+                          const Shader& shader, const RenderOptions& options, Image& image) {
+  std::array<Ray, kTilePixels> rays;
+  std::array<Hit, kTilePixels> hits;
+  std::array<Vec3, kTilePixels> sum{};
+  std::array<bool, kTilePixels> lit{};
+  std::size_t n = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
+  std::uint64_t shadow_rays = 0;
+  for (int s = 0; s < options.spp; ++s) {
+    for (std::size_t i = 0; i < n; ++i) {
+      int x = r.x0 + static_cast<int>(i) % r.width;
+      int y = r.y0 + static_cast<int>(i) / r.width;
+      std::uint64_t pixel =
+          static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(image.width) +
+          static_cast<std::uint64_t>(x);
+      auto [jx, jy] = jitter(pixel, options.spp, s, options.seed);
+      rays[i] = camera.ray(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
+    }
+    queries.intersect(std::span(rays.data(), n), std::span(hits.data(), n));
+    if (shader.casts_shadows()) {
+      shadow_rays += trace_shadows(shader, queries, std::span(rays.data(), n),
+                                   std::span(hits.data(), n), std::span(lit.data(), n));
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      sum[i] += shader.shade(rays[i], hits[i], lit[i]);
+  }
+  float inverse_spp = 1.0f / static_cast<float>(options.spp);
+  for (std::size_t i = 0; i < n; ++i) {
+    int x = r.x0 + static_cast<int>(i) % r.width;
+    int y = r.y0 + static_cast<int>(i) / r.width;
+    std::size_t pixel = static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) +
+                        static_cast<std::size_t>(x);
+    std::uint8_t* out = &image.rgb[3 * pixel];
+    Vec3 c = sum[i] * inverse_spp;
+    out[0] = to_byte(shader.encode(c.x));
+    out[1] = to_byte(shader.encode(c.y));
+    out[2] = to_byte(shader.encode(c.z));
+  }
+  return shadow_rays;
+}
+
+void check_options(const RenderOptions& o) {
+  if (o.width < 1 || o.width > kMaxImageSide || o.height < 1 || o.height > kMaxImageSide) {
+    throw std::invalid_argument("image size: expected 1 to " + std::to_string(kMaxImageSide) +
+                                " pixels a side");
+  }
+  if (o.spp < 1 || o.spp > kMaxSpp) {
+    throw std::invalid_argument("spp: expected 1 to " + std::to_string(kMaxSpp));
+  }
+  if (o.threads < 0 || o.threads > kMaxThreads) {
+    throw std::invalid_argument("threads: expected 0 (all) to " + std::to_string(kMaxThreads));
+  }
+  if (o.share.count < 1 || o.share.index < 0 || o.share.index >= o.share.count)
+    throw std::invalid_argument("tile share: expected 0 <= index < count");
+}
+
+}  // namespace
+
+constexpr std::array<std::string_view, 3> kAccelNames = {"auto", "bvh", "brute"};
+
+std::vector<std::string> accel_names() {
+  return {kAccelNames.begin(), kAccelNames.end()};
+}
+
+std::optional<Accel> parse_accel(std::string_view name) {
+  for (std::size_t i = 0; i < kAccelNames.size(); ++i) {
+    if (kAccelNames[i] == name) return static_cast<Accel>(i);
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string> mode_names() {
+  return {kModeNames.begin(), kModeNames.end()};
+}
+
+std::string_view mode_name(Mode mode) {
+  return kModeNames[static_cast<std::size_t>(mode)];
+}
+
+std::optional<Mode> parse_mode(std::string_view name) {
+  for (std::size_t i = 0; i < kModeNames.size(); ++i) {
+    if (kModeNames[i] == name) return static_cast<Mode>(i);
+  }
+  return std::nullopt;
+}
+
+Vec3 sky(const Ray& ray) {
+  // Ray Tracing in One Weekend, chapter 4: white to sky blue by the direction's height.
+  float a = 0.5f * (normalize(ray.dir).y + 1.0f);
+  return (1.0f - a) * Vec3{1, 1, 1} + a * Vec3{0.5f, 0.7f, 1.0f};
+}
+
+std::uint8_t to_byte(float c) {
+  // NaN compares false both ways and lands on 0.
+  float clamped = c > 0.0f ? std::min(c, 1.0f) : 0.0f;
+  return static_cast<std::uint8_t>(255.999f * clamped);
+}
+
+Image render(const Scene& scene, const RenderOptions& options, const Progress& progress,
+             RenderStats* stats) {
+  check_options(options);
+  if (options.mode == Mode::path) return render_path(scene, options, progress, stats);
+  auto build_start = std::chrono::steady_clock::now();
+  SceneQueries queries(scene.spheres, options.accel, options.threads);
+  auto build_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
+  Image image = render(scene, queries, options, progress, stats);
+  if (stats != nullptr) {
+    stats->build_seconds = queries.uses_bvh() ? build_seconds : 0.0;
+    stats->bvh = queries.uses_bvh();
+  }
+  return image;
+}
+
+Image render(const Scene& scene, const RayQueries& queries, const RenderOptions& options,
+             const Progress& progress, RenderStats* stats) {
+  check_options(options);
+  if (options.mode == Mode::path) return render_path(scene, queries, options, progress, stats);
+  Camera camera(scene.camera, options.width, options.height);
+  Shader shader(scene, options.mode);
+  Image image{options.width, options.height,
+              std::vector<std::uint8_t>(3 * static_cast<std::size_t>(options.width) *
+                                        static_cast<std::size_t>(options.height))};
+  std::size_t tiles_across = (static_cast<std::size_t>(options.width) + kTileSize - 1) / kTileSize;
+  std::size_t tiles_down = (static_cast<std::size_t>(options.height) + kTileSize - 1) / kTileSize;
+  std::size_t tiles = options.share.size(tiles_across * tiles_down);
+  std::atomic<std::size_t> done{0};
+  std::atomic<std::uint64_t> shadow_rays{0};
+  std::atomic<std::uint64_t> camera_rays{0};
+  auto render_tiles = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k != end; ++k) {
+      TileRect rect = tile_rect(options.share.tile(k), options.width, options.height);
+      shadow_rays += render_tile(rect, camera, queries, shader, options, image);
+      std::size_t finished = ++done;
+      camera_rays += static_cast<std::uint64_t>(rect.width) *
+                     static_cast<std::uint64_t>(rect.height) *
+                     static_cast<std::uint64_t>(options.spp);
+      if (progress) progress(finished, tiles, {camera_rays, 0, shadow_rays});
+    }
+  };
+
+  if (progress) progress(0, tiles, {});  // the tracing starts: any tree is built by now
+  auto start = std::chrono::steady_clock::now();
+  if (queries.collective()) {
+    render_tiles(0, tiles);  // every process the same calls in the same order
+  } else {
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    trace_tiles_in(arena, tiles, render_tiles);
+  }
+  auto seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  if (stats != nullptr) {
+    stats->seconds = seconds;
+    stats->build_seconds = 0.0;
+    stats->bvh = false;
+    stats->camera_rays = camera_rays;
+    stats->shadow_rays = shadow_rays;
+    stats->spp = options.spp;
+  }
+  return image;
+}
+
+}  // namespace sphray::render

@@ -1,0 +1,556 @@
+// The wavefront's shading passes. render/CMakeLists.txt compiles this file once per instruction
+// set, each copy in its own namespace (SPHRAY_SHADE_ISA); wavefront.cpp picks one at run time.
+// Only the vector width differs between the copies: no FMA contraction (-ffp-contract=off) and
+// the same operations in the same order, so every copy gives the same bits
+// (tests/render/wavefront_test.cpp runs each one).
+#include "path/wavefront.hpp"
+
+#include "sphray/render/camera.hpp"
+
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <limits>
+
+namespace sphray::render::SPHRAY_SHADE_ISA {
+namespace {
+
+constexpr auto kLambertian = static_cast<std::int32_t>(MaterialKind::lambertian);
+constexpr auto kMetal = static_cast<std::int32_t>(MaterialKind::metal);
+constexpr auto kDielectric = static_cast<std::int32_t>(MaterialKind::dielectric);
+
+bool finite(float x) {
+  return std::fabs(x) <= std::numeric_limits<float>::max();
+}
+
+// surface()'s error bound: gamma(n) = n u / (1 - n u), u = 2^-24 (kernel/src/surface/surface.cpp).
+constexpr float gamma(int n) {
+  return static_cast<float>(n) * 0x1p-24f / (1.0f - static_cast<float>(n) * 0x1p-24f);
+}
+constexpr float kGamma10 = gamma(10), kGamma2 = gamma(2);
+
+// Sky::radiance's blend for a ray's direction, 0.5 (normalize(dir).y + 1): computed with the ray,
+// in a vector pass, and kept in its path's record, it is all a miss needs besides the throughput.
+float sky_blend(float dx, float dy, float dz) {
+  const float length = std::sqrt(dx * dx + dy * dy + dz * dz);
+  return 0.5f * (dy / length + 1.0f);
+}
+
+// spawn()'s step of x to the next float in the direction of sign, as selects.
+float away(float x, float sign) {
+  const auto bits = std::bit_cast<std::uint32_t>(x);
+  const bool grows = (x > 0.0f) == (sign > 0.0f);
+  const bool infinite = std::fabs(x) == std::numeric_limits<float>::infinity();
+  const std::uint32_t stepped = grows ? (infinite ? bits : bits + 1u) : bits - 1u;
+  const std::uint32_t tiny = (std::bit_cast<std::uint32_t>(sign) & 0x80000000u) | 1u;
+  const float moved = std::bit_cast<float>(x == 0.0f ? tiny : stepped);
+  return sign == 0.0f || x != x ? x : moved;
+}
+
+// The lanes a float pass runs over: the live ones and those up to the next multiple of 16, the
+// widest copy's vector, so that no pass ends in a tail of lanes one at a time (GCC's epilogue:
+// scalar divisions and square roots, a visible share of shade()'s profile; docs/history.md,
+// "The third round: misses out before shading"). The lanes past the live ones hold values of
+// earlier rounds (the tracer's wavefront is zeroed once, when made); what they compute is never
+// read. Passes that write outside the lanes stop at the live count.
+constexpr std::size_t kLaneBlock = 16;
+static_assert(kWavefront % kLaneBlock == 0);
+std::size_t padded(std::size_t live) {
+  return (live + kLaneBlock - 1) / kLaneBlock * kLaneBlock;
+}
+
+// Eight floats (or their bits), moved between layouts by shuffles of GCC's vector extensions:
+// the build's flags pick the instructions. Moves only: every copy gives the same bits. Only the
+// copies the build says transpose do (SPHRAY_SHADE_TRANSPOSES, render/CMakeLists.txt); the
+// others move one lane at a time, faster for them.
+constexpr bool kTransposes = SPHRAY_SHADE_TRANSPOSES != 0;
+// The points of the disk draw() and start() draw for every lane in their vector loops (1 or 2,
+// render/CMakeLists.txt): two where the vectors have a 64-bit lane multiply (SplitMix64's), one
+// where it is emulated and the second point costs more than the lanes that go on one at a time.
+constexpr std::uint64_t kPointsAhead = SPHRAY_SHADE_POINTS_AHEAD;
+using Floats8 = float __attribute__((vector_size(32)));
+static_assert(sizeof(Floats8) == 8 * sizeof(float));
+
+// Vectors by reference only: passing one by value would depend on the instruction set's ABI.
+void load8(Floats8& v, const void* from) {
+  std::memcpy(&v, from, sizeof v);
+}
+void store8(void* to, const Floats8& v) {
+  std::memcpy(to, &v, sizeof v);
+}
+
+// Eight vectors transposed in place: v[i][j] becomes v[j][i]. Inline, or the vectors go through
+// memory.
+[[gnu::always_inline]] inline void transpose8(Floats8 (&v)[8]) {
+  Floats8 t[8], s[8];
+  for (int i = 0; i < 8; i += 2) {  // pairs of rows interleaved
+    t[i] = __builtin_shufflevector(v[i], v[i + 1], 0, 8, 1, 9, 4, 12, 5, 13);
+    t[i + 1] = __builtin_shufflevector(v[i], v[i + 1], 2, 10, 3, 11, 6, 14, 7, 15);
+  }
+  for (int i = 0; i < 8; i += 4) {  // then pairs of those pairs
+    s[i] = __builtin_shufflevector(t[i], t[i + 2], 0, 1, 8, 9, 4, 5, 12, 13);
+    s[i + 1] = __builtin_shufflevector(t[i], t[i + 2], 2, 3, 10, 11, 6, 7, 14, 15);
+    s[i + 2] = __builtin_shufflevector(t[i + 1], t[i + 3], 0, 1, 8, 9, 4, 5, 12, 13);
+    s[i + 3] = __builtin_shufflevector(t[i + 1], t[i + 3], 2, 3, 10, 11, 6, 7, 14, 15);
+  }
+  for (int i = 0; i < 4; ++i) {  // then the halves of four rows
+    v[i] = __builtin_shufflevector(s[i], s[i + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+    v[i + 4] = __builtin_shufflevector(s[i], s[i + 4], 4, 5, 6, 7, 12, 13, 14, 15);
+  }
+}
+
+// A PathRecord's eight fields, in the order the record transposes put them.
+static_assert(offsetof(PathRecord, tr) == 0 && offsetof(PathRecord, rays_left) == 12 &&
+              offsetof(PathRecord, slot) == 16 && offsetof(PathRecord, counter_low) == 20 &&
+              offsetof(PathRecord, counter_high) == 24 && offsetof(PathRecord, sky) == 28);
+
+// A Ray's first eight floats: origin, direction, tmin and tmax.
+static_assert(offsetof(Ray, origin) == 0 && offsetof(Ray, dir) == 12 && offsetof(Ray, tmax) == 28);
+
+// Each live path's sphere: its row's fields, one array per quantity. Eight lanes at a time,
+// their rows loaded whole and transposed: a loop of one load a field costs some 30 instructions
+// a lane (GCC's tuning here emits no gather instructions). The last lanes one by one.
+void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t lanes) {
+  std::size_t k = 0;
+  for (; kTransposes && k + 8 <= lanes; k += 8) {
+    Floats8 lo[8], hi[8];
+    for (int i = 0; i < 8; ++i) {
+      load8(lo[i], &rows[w.row[k + i]].cx);
+      load8(hi[i], &rows[w.row[k + i]].ior);
+    }
+    transpose8(lo);
+    transpose8(hi);
+    store8(&w.cx[k], lo[0]), store8(&w.cy[k], lo[1]), store8(&w.cz[k], lo[2]);
+    store8(&w.radius[k], lo[3]);
+    store8(&w.ar[k], lo[4]), store8(&w.ag[k], lo[5]), store8(&w.ab[k], lo[6]);
+    store8(&w.fuzz[k], lo[7]), store8(&w.ior[k], hi[0]), store8(&w.kind[k], hi[1]);
+  }
+  for (; k < lanes; ++k) {
+    const SphereShading& s = rows[w.row[k]];
+    w.cx[k] = s.cx, w.cy[k] = s.cy, w.cz[k] = s.cz, w.radius[k] = s.radius;
+    w.ar[k] = s.ar, w.ag[k] = s.ag, w.ab[k] = s.ab;
+    w.fuzz[k] = s.fuzz, w.ior[k] = s.ior, w.kind[k] = s.kind;
+  }
+}
+
+// The records of lanes [0, lanes) as one array per quantity, eight at a time transposed (the
+// last eight may pass the live lanes: every lane has a record), or one lane at a time.
+void unpack_records(Wavefront& w, std::size_t lanes) {
+  static_assert(kWavefront % 8 == 0);
+  std::size_t k = 0;
+  for (; kTransposes && k < lanes; k += 8) {
+    Floats8 v[8];
+    for (std::size_t i = 0; i < 8; ++i)
+      load8(v[i], &w.paths[k + i]);
+    transpose8(v);
+    store8(&w.tr[k], v[0]), store8(&w.tg[k], v[1]), store8(&w.tb[k], v[2]);
+    store8(&w.rays_left[k], v[3]), store8(&w.slot[k], v[4]);
+    const Floats8 c0 = __builtin_shufflevector(v[5], v[6], 0, 8, 1, 9, 2, 10, 3, 11);
+    const Floats8 c1 = __builtin_shufflevector(v[5], v[6], 4, 12, 5, 13, 6, 14, 7, 15);
+    store8(&w.counter[k], c0), store8(&w.counter[k + 4], c1);
+  }
+  for (; k < lanes; ++k) {
+    const PathRecord& path = w.paths[k];
+    w.tr[k] = path.tr, w.tg[k] = path.tg, w.tb[k] = path.tb;
+    w.rays_left[k] = path.rays_left, w.slot[k] = path.slot, w.counter[k] = path.counter();
+  }
+}
+
+// Each hit path's ray (eight at a time transposed, the last ones one by one), hit, sphere and
+// state, one array per quantity.
+void gather(Wavefront& w, const ShadingTable& table, std::size_t lanes) {
+  std::size_t k = 0;
+  for (; kTransposes && k + 8 <= lanes; k += 8) {
+    Floats8 v[8];
+    for (int i = 0; i < 8; ++i)
+      load8(v[i], &w.rays[k + i]);
+    transpose8(v);
+    store8(&w.ox[k], v[0]), store8(&w.oy[k], v[1]), store8(&w.oz[k], v[2]);
+    store8(&w.dx[k], v[3]), store8(&w.dy[k], v[4]), store8(&w.dz[k], v[5]);
+  }
+  for (; k < lanes; ++k) {
+    const Ray& ray = w.rays[k];
+    w.ox[k] = ray.origin.x, w.oy[k] = ray.origin.y, w.oz[k] = ray.origin.z;
+    w.dx[k] = ray.dir.x, w.dy[k] = ray.dir.y, w.dz[k] = ray.dir.z;
+  }
+  for (k = 0; k < lanes; ++k) {
+    w.t[k] = w.hits[k].t;
+    w.row[k] = static_cast<std::int32_t>(table.index(w.hits[k].id));
+  }
+  gather_rows(w, table.rows(), lanes);
+  unpack_records(w, lanes);
+}
+
+// sphray::surface() for every lane, the unit incoming direction and the normal against it.
+// The normal and point in double, the front face from the ray's origin (tmin is 0 here), and
+// the error bound, as surface() computes them.
+void surfaces(Wavefront& w, std::size_t lanes) {
+  for (std::size_t k = 0; k < lanes; ++k) {
+    const float px = w.ox[k] + w.t[k] * w.dx[k];
+    const float py = w.oy[k] + w.t[k] * w.dy[k];
+    const float pz = w.oz[k] + w.t[k] * w.dz[k];
+    const float fx = px - w.cx[k], fy = py - w.cy[k], fz = pz - w.cz[k];
+    const bool has_direction =
+        finite(fx) && finite(fy) && finite(fz) && (fx != 0.0f || fy != 0.0f || fz != 0.0f);
+    const double tx = has_direction ? fx : -w.dx[k];
+    const double ty = has_direction ? fy : -w.dy[k];
+    const double tz = has_direction ? fz : -w.dz[k];
+    const double tlength = std::sqrt(tx * tx + ty * ty + tz * tz);
+    const double dnx = tx / tlength, dny = ty / tlength, dnz = tz / tlength;
+    const float nx = static_cast<float>(dnx), ny = static_cast<float>(dny),
+                nz = static_cast<float>(dnz);
+    w.nx[k] = nx, w.ny[k] = ny, w.nz[k] = nz;
+    const float r = w.radius[k];
+    const float sx = static_cast<float>(w.cx[k] + r * dnx);
+    const float sy = static_cast<float>(w.cy[k] + r * dny);
+    const float sz = static_cast<float>(w.cz[k] + r * dnz);
+    w.px[k] = sx, w.py[k] = sy, w.pz[k] = sz;
+    const float radial = kGamma10 * r;
+    w.ex[k] = radial * std::fabs(nx) + kGamma2 * std::fabs(sx);
+    w.ey[k] = radial * std::fabs(ny) + kGamma2 * std::fabs(sy);
+    w.ez[k] = radial * std::fabs(nz) + kGamma2 * std::fabs(sz);
+    const double gx = static_cast<double>(w.ox[k]) - w.cx[k];
+    const double gy = static_cast<double>(w.oy[k]) - w.cy[k];
+    const double gz = static_cast<double>(w.oz[k]) - w.cz[k];
+    const bool front = gx * gx + gy * gy + gz * gz > static_cast<double>(r) * r;
+    const float length = std::sqrt(w.dx[k] * w.dx[k] + w.dy[k] * w.dy[k] + w.dz[k] * w.dz[k]);
+    w.ux[k] = w.dx[k] / length, w.uy[k] = w.dy[k] / length, w.uz[k] = w.dz[k] / length;
+    // The normal against the incoming ray (as scatter() turns it), and a dielectric's eta.
+    // Every load and store unconditional: a conditional one keeps GCC from vectorising.
+    const float ox = front ? nx : -nx, oy = front ? ny : -ny, oz = front ? nz : -nz;
+    w.onx[k] = ox, w.ony[k] = oy, w.onz[k] = oz;
+    const float ior = w.ior[k], inverse = 1.0f / ior;
+    w.eta[k] = front ? inverse : ior;
+    const float c = -w.ux[k] * ox + -w.uy[k] * oy + -w.uz[k] * oz;
+    w.cosine[k] = 1.0f < c ? 1.0f : c;
+  }
+}
+
+// Lists in w.listed the lanes of [begin, end) whose redraw flag is set, in order, and returns
+// how many: the flags of 64 lanes as the bits of a word (a loop that vectorises), then the word's
+// set bits. (A loop adding each flag to the count after storing its lane, a store and a dependent
+// add every lane, was a visible share of shade()'s profile; docs/history.md, "The third round:
+// misses out before shading".)
+std::size_t list_redraws(Wavefront& w, std::size_t begin, std::size_t end) {
+  static_assert(kWavefront % 64 == 0);
+  constexpr std::uint64_t kAll = ~std::uint64_t{0};
+  std::size_t count = 0;
+  for (std::size_t base = begin / 64 * 64; base < end; base += 64) {
+    std::uint64_t bits = 0;
+    for (std::size_t i = 0; i < 64; ++i)
+      bits |= static_cast<std::uint64_t>(w.redraw[base + i] & 1) << i;
+    bits &= base < begin ? kAll << (begin - base) : kAll;
+    bits &= end - base < 64 ? (std::uint64_t{1} << (end - base)) - 1 : kAll;
+    for (; bits != 0; bits &= bits - 1)
+      w.listed[count++] = static_cast<std::uint16_t>(base + std::countr_zero(bits));
+  }
+  return count;
+}
+
+// A dielectric's choice between reflection and refraction, drawn only where it may refract
+// (scatter()'s dielectric: a matched index is no interface, and takes no draw).
+void choose_reflection(Wavefront& w, std::size_t k) {
+  const float cosine = w.cosine[k], eta = w.eta[k];
+  const float sine = std::sqrt(0.0f < 1.0f - cosine * cosine ? 1.0f - cosine * cosine : 0.0f);
+  const bool cannot_refract = eta * sine > 1.0f;
+  if (cannot_refract || eta == 1.0f) {
+    w.reflects[k] = cannot_refract;
+    return;
+  }
+  w.counter[k] += PathRandom::kStep;
+  w.reflects[k] = schlick(cosine, eta) > PathRandom::at(w.counter[k]);
+}
+
+// PathRandom::at, with the top 24 bits converted through int32 (exact either way): the
+// conversion from 64-bit integers has no vector form before AVX-512.
+float uniform_at(std::uint64_t counter) {
+  return static_cast<float>(static_cast<std::int32_t>(PathRandom::mix(counter) >> 40)) * 0x1p-24f;
+}
+
+// Each path's draws, in the order scatter() makes them: a Lambertian and a fuzzed metal draw a
+// unit vector, a dielectric that may refract a uniform. First every lane's first two points of
+// the disk, in one loop that vectorises (the first inside kept where a unit vector was wanted:
+// one of them is for 95% of the lanes, the first alone for pi/4); then, one lane at a time, the
+// rest: the next tries past two rejected points, and the dielectrics. (The same draws before,
+// with one branch per material, cost more: the draws then ran one lane at a time. With one point
+// ahead rather than two, a lane in five went on one lane at a time.)
+void draw(Wavefront& w, std::size_t hits, std::size_t lanes) {
+  constexpr std::uint64_t kStep = PathRandom::kStep;
+  for (std::size_t k = 0; k < lanes; ++k) {
+    const std::uint64_t counter = w.counter[k];
+    const float u1 = 2.0f * uniform_at(counter + kStep) - 1.0f;
+    const float v1 = 2.0f * uniform_at(counter + 2 * kStep) - 1.0f;
+    const float s1 = u1 * u1 + v1 * v1;
+    // With one point ahead the second is the first again: never taken.
+    const float u2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 3 * kStep) - 1.0f : u1;
+    const float v2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 4 * kStep) - 1.0f : v1;
+    const float s2 = u2 * u2 + v2 * v2;
+    const std::int32_t kind = w.kind[k];
+    const std::int32_t fuzzed = (kind == kMetal ? 1 : 0) & (w.fuzz[k] > 0.0f ? 1 : 0);
+    const std::int32_t wants = (kind == kLambertian ? 1 : 0) | fuzzed;
+    const std::int32_t first = s1 < 1.0f ? 1 : 0;
+    const std::int32_t second = (1 - first) & (s2 < 1.0f ? 1 : 0);
+    const std::int32_t drawn = wants & (first | second);
+    const float u = first ? u1 : u2, v = first ? v1 : v2, s = first ? s1 : s2;
+    const float scale = 2.0f * std::sqrt(1.0f - s);
+    w.vx[k] = drawn ? u * scale : 0.0f;
+    w.vy[k] = drawn ? v * scale : 0.0f;
+    w.vz[k] = drawn ? 1.0f - 2.0f * s : 0.0f;
+    const std::uint64_t past = first ? counter + 2 * kStep : counter + 4 * kStep;
+    w.counter[k] = drawn ? past : counter;
+    w.reflects[k] = 0;
+    w.redraw[k] = (wants & (1 - (first | second))) | (kind == kDielectric ? 1 : 0);
+  }
+  const std::size_t count = list_redraws(w, 0, hits);
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::size_t k = w.listed[j];
+    if (w.kind[k] == kDielectric) {
+      choose_reflection(w, k);
+      continue;
+    }
+    const DiskPoint p = disk_point(w.counter[k] + 2 * kPointsAhead * kStep);  // past them
+    const float scale = 2.0f * std::sqrt(1.0f - p.s);
+    w.vx[k] = p.u * scale, w.vy[k] = p.v * scale, w.vz[k] = 1.0f - 2.0f * p.s;
+    w.counter[k] = p.counter;
+  }
+}
+
+// offset_origin(): the surface point moved past its error box along the outward normal, to the
+// side the new direction leaves by, each coordinate then stepped away from the point.
+void offset_origin(Wavefront& w, std::size_t k, float dx, float dy, float dz) {
+  const float nx = w.nx[k], ny = w.ny[k], nz = w.nz[k];  // outward
+  const float d = std::fabs(nx) * w.ex[k] + std::fabs(ny) * w.ey[k] + std::fabs(nz) * w.ez[k];
+  const bool inward = dx * nx + dy * ny + dz * nz < 0.0f;
+  const float fx = inward ? -(d * nx) : d * nx;
+  const float fy = inward ? -(d * ny) : d * ny;
+  const float fz = inward ? -(d * nz) : d * nz;
+  w.ox[k] = away(w.px[k] + fx, fx);
+  w.oy[k] = away(w.py[k] + fy, fy);
+  w.oz[k] = away(w.pz[k] + fz, fz);
+}
+
+// scatter()'s direction and attenuation for every lane, the three materials computed and one
+// selected, and spawn()'s origin of the next ray.
+void scatter_all(Wavefront& w, std::size_t lanes) {
+  for (std::size_t k = 0; k < lanes; ++k) {
+    const float nx = w.onx[k], ny = w.ony[k], nz = w.onz[k];
+    const float ux = w.ux[k], uy = w.uy[k], uz = w.uz[k];
+    const float vx = w.vx[k], vy = w.vy[k], vz = w.vz[k];
+    // Lambertian: n + a unit vector, n itself where they nearly cancel.
+    const float lx = nx + vx, ly = ny + vy, lz = nz + vz;
+    // near_zero() as a sum of floats: GCC vectorises no && of float comparisons.
+    const float far_x = std::fabs(lx) < 1e-8f ? 0.0f : 1.0f;
+    const float far_y = std::fabs(ly) < 1e-8f ? 0.0f : 1.0f;
+    const float far_z = std::fabs(lz) < 1e-8f ? 0.0f : 1.0f;
+    const bool near_zero = far_x + far_y + far_z == 0.0f;
+    // Metal: the mirror direction, fuzzed; absorbed if that goes below the surface.
+    const float twice = 2.0f * (ux * nx + uy * ny + uz * nz);
+    const float rx = ux - twice * nx, ry = uy - twice * ny, rz = uz - twice * nz;
+    const float rlength = std::sqrt(rx * rx + ry * ry + rz * rz);
+    const float fuzz = w.fuzz[k];
+    const bool fuzzed = fuzz > 0.0f;
+    const float mx = fuzzed ? rx / rlength + fuzz * vx : rx;
+    const float my = fuzzed ? ry / rlength + fuzz * vy : ry;
+    const float mz = fuzzed ? rz / rlength + fuzz * vz : rz;
+    // Integers of one width, no bool: GCC vectorises no mix of them.
+    const std::int32_t below = mx * nx + my * ny + mz * nz <= 0.0f ? 1 : 0;
+    const std::int32_t absorbed = (w.kind[k] == kMetal ? 1 : 0) & below;
+    // Dielectric: the mirror direction or refract()'s.
+    const float eta = w.eta[k], cosine = w.cosine[k];
+    const float ax = eta * (ux + cosine * nx), ay = eta * (uy + cosine * ny),
+                az = eta * (uz + cosine * nz);
+    const float along = -std::sqrt(std::fabs(1.0f - (ax * ax + ay * ay + az * az)));
+    const bool reflects = w.reflects[k];
+    const float gx = reflects ? rx : ax + along * nx;
+    const float gy = reflects ? ry : ay + along * ny;
+    const float gz = reflects ? rz : az + along * nz;
+    const std::int32_t kind = w.kind[k];
+    const float dx = kind == kLambertian ? (near_zero ? nx : lx) : (kind == kMetal ? mx : gx);
+    const float dy = kind == kLambertian ? (near_zero ? ny : ly) : (kind == kMetal ? my : gy);
+    const float dz = kind == kLambertian ? (near_zero ? nz : lz) : (kind == kMetal ? mz : gz);
+    w.dx[k] = dx, w.dy[k] = dy, w.dz[k] = dz;
+    w.sky[k] = sky_blend(dx, dy, dz);
+    offset_origin(w, k, dx, dy, dz);
+    // A path that traced its last ray brings no light, as the book's max_depth.
+    const std::int32_t more = w.rays_left[k] > 1 ? 1 : 0;
+    w.alive[k] = (1 - absorbed) & more;
+    w.rays_left[k] = w.rays_left[k] - 1;
+    w.tr[k] = w.tr[k] * w.ar[k], w.tg[k] = w.tg[k] * w.ag[k], w.tb[k] = w.tb[k] * w.ab[k];
+  }
+}
+
+// Lanes k to k + 8's next rays as the kernel's Rays' first 8 floats (the mask stays as the Ray
+// was made), by a transpose: row i is lane k + i's ray.
+[[gnu::always_inline]] inline void next_rays(const Wavefront& w, std::size_t k,
+                                             Floats8 (&rays)[8]) {
+  load8(rays[0], &w.ox[k]), load8(rays[1], &w.oy[k]), load8(rays[2], &w.oz[k]);
+  load8(rays[3], &w.dx[k]), load8(rays[4], &w.dy[k]), load8(rays[5], &w.dz[k]);
+  const Ray unbounded{};  // tmin and tmax as every Ray has them
+  rays[6] = Floats8{} + unbounded.tmin;
+  rays[7] = Floats8{} + unbounded.tmax;
+  transpose8(rays);
+}
+
+// Lanes k to k + 8's state that goes with a path to its next lane, as records (the bits of the
+// throughput, rays left, entry, the counter's low and high halves and the sky blend, in
+// PathRecord's order), by a transpose: row i is lane k + i's record.
+[[gnu::always_inline]] inline void path_records(const Wavefront& w, std::size_t k,
+                                                Floats8 (&v)[8]) {
+  Floats8 c0, c1;
+  load8(v[0], &w.tr[k]), load8(v[1], &w.tg[k]), load8(v[2], &w.tb[k]);
+  load8(v[3], &w.rays_left[k]), load8(v[4], &w.slot[k]);
+  load8(c0, &w.counter[k]), load8(c1, &w.counter[k + 4]);
+  v[5] = __builtin_shufflevector(c0, c1, 0, 2, 4, 6, 8, 10, 12, 14);
+  v[6] = __builtin_shufflevector(c0, c1, 1, 3, 5, 7, 9, 11, 13, 15);
+  load8(v[7], &w.sky[k]);
+  transpose8(v);
+}
+
+// Lane k's record, as path_records() makes them.
+PathRecord record_of(const Wavefront& w, std::size_t k) {
+  const std::uint64_t counter = w.counter[k];
+  return {w.tr[k],
+          w.tg[k],
+          w.tb[k],
+          w.rays_left[k],
+          w.slot[k],
+          static_cast<std::uint32_t>(counter),
+          static_cast<std::uint32_t>(counter >> 32),
+          w.sky[k]};
+}
+
+// The paths whose ray hit move to the front of the lanes, in order (ray, hit and record); the
+// others' records go to the misses' array. Each record is stored to both places and kept in one:
+// no branch. Returns the hits.
+std::size_t partition(Wavefront& w, std::size_t live) {
+  std::size_t hits = 0, misses = 0;
+  for (std::size_t k = 0; k < live; ++k) {
+    Floats8 ray, path;
+    load8(ray, &w.rays[k]), load8(path, &w.paths[k]);
+    const Hit hit = w.hits[k];
+    store8(&w.rays[hits], ray), store8(&w.paths[hits], path);
+    w.hits[hits] = hit;
+    store8(&w.missed[misses], path);
+    const std::size_t found = hit.found() ? 1 : 0;
+    hits += found, misses += 1 - found;
+  }
+  return hits;
+}
+
+// Each miss's light, its throughput times Sky::radiance(dir), to its entry: 0 + the light, the
+// sum the entry (0 since the path started) makes with it, without reading the entry.
+void light_misses(const Wavefront& w, const Sky& sky, std::size_t misses, Vec3* radiance) {
+  const Vec3 horizon = sky.horizon, zenith = sky.zenith;
+  for (std::size_t j = 0; j < misses; ++j) {
+    const PathRecord& path = w.missed[j];
+    const float a = path.sky;
+    const float lr = path.tr * ((1.0f - a) * horizon.x + a * zenith.x);
+    const float lg = path.tg * ((1.0f - a) * horizon.y + a * zenith.y);
+    const float lb = path.tb * ((1.0f - a) * horizon.z + a * zenith.z);
+    radiance[path.slot] = Vec3{0.0f + lr, 0.0f + lg, 0.0f + lb};
+  }
+}
+
+// The paths still going move to the front, their next rays into the kernel's array and their
+// state into records. Written for every lane, kept only for the live ones: no branch. Eight
+// lanes at a time, their rays and records made by transposes, each one store (moved one float
+// at a time, a lane took some 30 instructions); of the last eight, those up to hits. Returns
+// the paths kept.
+std::size_t compact(Wavefront& w, std::size_t hits) {
+  std::size_t k = 0, kept = 0;
+  for (; kTransposes && k < hits; k += 8) {
+    Floats8 rays[8], records[8];
+    next_rays(w, k, rays);
+    path_records(w, k, records);
+    const std::size_t lanes = hits - k < 8 ? hits - k : 8;
+    for (std::size_t i = 0; i < lanes; ++i) {
+      store8(&w.rays[kept], rays[i]);
+      store8(&w.paths[kept], records[i]);
+      kept += static_cast<std::size_t>(w.alive[k + i]);
+    }
+  }
+  for (; k < hits; ++k) {
+    w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
+    w.paths[kept] = record_of(w, k);
+    kept += static_cast<std::size_t>(w.alive[k]);
+  }
+  return kept;
+}
+
+// The rejected lens points' next tries, one lane at a time: their draws go on past the points
+// start() drew (the path's fourth draw, or sixth with two points ahead).
+void redraw_lens(Wavefront& w, std::size_t begin) {
+  const std::size_t count = list_redraws(w, begin, w.live);
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::size_t k = w.listed[j];
+    const DiskPoint p = disk_point(w.counter[k]);
+    w.vx[k] = p.u, w.vy[k] = p.v;
+    w.counter[k] = p.counter;
+  }
+}
+
+}  // namespace
+
+void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t seed_hash) {
+  constexpr std::uint64_t kStep = PathRandom::kStep;
+  const std::size_t live = w.live;  // a copy: the counters' stores could alias it, as integers
+  const bool lens = camera.has_defocus();
+  const std::int32_t uses_lens = lens ? 1 : 0;
+  const std::uint64_t past = lens ? 4 * kStep : 2 * kStep;  // the draws taken below
+  // The path's random stream (PathRandom's constructor, its seed's mix given), the point in the
+  // pixel and the first kPointsAhead points of the lens disk (as in draw()).
+  for (std::size_t k = begin; k < live; ++k) {
+    const std::uint64_t counter =
+        PathRandom::mix(PathRandom::mix(seed_hash ^ w.key[k]) ^ (std::uint64_t{w.sample[k]} << 32));
+    w.px[k] = w.px[k] + uniform_at(counter + kStep);
+    w.py[k] = w.py[k] + uniform_at(counter + 2 * kStep);
+    const float u1 = 2.0f * uniform_at(counter + 3 * kStep) - 1.0f;
+    const float v1 = 2.0f * uniform_at(counter + 4 * kStep) - 1.0f;
+    const float u2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 5 * kStep) - 1.0f : u1;
+    const float v2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 6 * kStep) - 1.0f : v1;
+    const std::int32_t first = u1 * u1 + v1 * v1 < 1.0f ? 1 : 0;
+    const std::int32_t second = u2 * u2 + v2 * v2 < 1.0f ? 1 : 0;
+    w.vx[k] = first ? u1 : u2, w.vy[k] = first ? v1 : v2;
+    w.redraw[k] = (1 - first) & (1 - second) & uses_lens;
+    // Past the second point, if drawn, where the first was rejected: a lane with every point
+    // rejected goes on from its counter in redraw_lens.
+    w.counter[k] =
+        counter + (first | (1 - uses_lens) ? past : past + 2 * (kPointsAhead - 1) * kStep);
+  }
+  if (lens) redraw_lens(w, begin);
+  const Camera copy = camera;  // a local: no store to the lanes can change it
+  for (std::size_t k = begin; k < live; ++k) {
+    w.rays[k] = copy.ray(w.px[k], w.py[k], w.vx[k], w.vy[k]);  // the pinhole's without a lens
+  }
+  for (std::size_t k = begin; k < live; ++k) {  // the ray again, not read back: vectorised
+    const Vec3 dir = copy.ray(w.px[k], w.py[k], w.vx[k], w.vy[k]).dir;
+    w.sky[k] = sky_blend(dir.x, dir.y, dir.z);
+  }
+  // The new paths' records: eight at a time transposed, or one by one. All eight rows stored
+  // where the array has them (the lanes past live are free): a count of rows made GCC copy them
+  // with a string instruction, a large share of start() (docs/history.md, "The third round:
+  // misses out before shading").
+  std::size_t k = begin;
+  for (; kTransposes && k + 8 <= kWavefront && k < live; k += 8) {
+    Floats8 records[8];
+    path_records(w, k, records);
+    for (std::size_t i = 0; i < 8; ++i)
+      store8(&w.paths[k + i], records[i]);
+  }
+  for (; k < live; ++k)
+    w.paths[k] = record_of(w, k);
+}
+
+void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance) {
+  const std::size_t hits = partition(w, w.live);
+  light_misses(w, sky, w.live - hits, radiance);
+  const std::size_t lanes = padded(hits);
+  gather(w, table, lanes);
+  surfaces(w, lanes);
+  draw(w, hits, lanes);
+  scatter_all(w, lanes);
+  w.live = compact(w, hits);
+}
+
+}  // namespace sphray::render::SPHRAY_SHADE_ISA
