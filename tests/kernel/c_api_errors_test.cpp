@@ -412,7 +412,7 @@ TEST_F(CApiErrors, QueriesBeyondTheClosestHitRefuseBadArguments) {
   expect_failure(sphray_scene_set_masks(nullptr, masks, 0), SPHRAY_ERROR_NULL_POINTER,
                  "sphray_scene_set_masks", "scene is NULL");
   expect_failure(sphray_nearest(scene, nullptr, 2, INFINITY, near, nullptr),
-                 SPHRAY_ERROR_NULL_POINTER, "sphray_nearest", "is NULL");
+                 SPHRAY_ERROR_NULL_POINTER, "sphray_nearest", "points is NULL");
   const char* f = "sphray_overlapping";
   expect_failure(sphray_overlapping(scene, nullptr, 1.0f, 0, nullptr, &total),
                  SPHRAY_ERROR_NULL_POINTER, f, "centre is NULL");

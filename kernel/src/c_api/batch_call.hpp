@@ -44,7 +44,8 @@ inline int check_batch(const sphray_scene* scene, const void* in, const void* ou
                        const char* function, QueryOptions& options) noexcept {
   if (int status = read_args(args, inputs, function, options); status != SPHRAY_OK) return status;
   if (count == 0) return check_scene(scene, function);
-  return check_query(scene, in, out, count, function);
+  return check_query(scene, in, out, count, function,
+                     inputs == Inputs::rays ? "rays is NULL" : "points is NULL");
 }
 
 /// range(worker, begin, end) over [0, count) on the threads options ask for; SPHRAY_OK, or the

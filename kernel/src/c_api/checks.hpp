@@ -33,11 +33,13 @@ inline int check_scene(const sphray_scene* scene, const char* function) noexcept
   return SPHRAY_OK;
 }
 
-/// A query's arguments: a live scene, the two arrays, a count in range.
+/// A query's arguments: a live scene, the two arrays (in_name: what the input array holds, for
+/// the message), a count in range.
 inline int check_query(const sphray_scene* scene, const void* in, const void* out,
-                       std::size_t count, const char* function) noexcept {
+                       std::size_t count, const char* function,
+                       const char* in_name = "rays is NULL") noexcept {
   int status = check_scene(scene, function);
-  if (status == SPHRAY_OK) status = check_pointer(in, function, "rays is NULL");
+  if (status == SPHRAY_OK) status = check_pointer(in, function, in_name);
   if (status == SPHRAY_OK) status = check_pointer(out, function, "output array is NULL");
   if (status == SPHRAY_OK) status = check_count(count, function);
   return status;
