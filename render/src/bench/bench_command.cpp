@@ -16,6 +16,7 @@
 #include "bench/bench_report.hpp"
 #include "bench/bench_rows.hpp"
 #include "bench/bench_timing.hpp"
+#include "command/command_failure.hpp"
 #include "command/progress_report.hpp"
 #include "image/atomic_output.hpp"
 #include "sphray/render/image_file.hpp"
@@ -23,9 +24,6 @@
 
 namespace sphray::render::bench {
 namespace {
-
-constexpr int kExitFailure = 1;
-constexpr int kExitUsage = 2;
 
 std::vector<RayKind> ray_kinds(const std::string& rays) {
   if (rays == "camera") return {RayKind::camera};
@@ -215,7 +213,7 @@ bool run_every_hit_kind(const BenchArgs& args, const Scene& scene, const Context
   print_table_header();
   const SphereView spheres = scene.spheres.view();
   const CrossingTrace reference = std::find_if(rows.begin(), rows.end(), [](const CrossingRow& r) {
-                                    return r.name == "tree intersect_all16";
+                                    return r.reference;
                                   })->prepare(spheres);
   std::vector<std::pair<std::string, double>> rates;  // sphray's rows, for the ratios
   for (const CrossingRow& row : rows) {
@@ -258,12 +256,8 @@ std::unique_ptr<detail::AtomicOutput> open_json(const BenchArgs& args, int& stat
   if (args.json.empty()) return nullptr;
   try {
     return std::make_unique<detail::AtomicOutput>(args.json, args.force);
-  } catch (const OutputRefused& e) {
-    std::fprintf(stderr, "sphray: %s\n", e.what());
-    status = kExitUsage;
-  } catch (const IoError& e) {
-    std::fprintf(stderr, "sphray: %s\n", e.what());
-    status = kExitFailure;
+  } catch (const std::exception&) {  // a refusal (exit 2) or an I/O error (exit 1)
+    status = report_failure("out of memory opening the JSON file");
   }
   return nullptr;
 }
@@ -276,7 +270,7 @@ bool write_json(detail::AtomicOutput& out, const Context& context,
     out.commit();
     return true;
   } catch (const IoError& e) {
-    std::fprintf(stderr, "sphray: %s\n", e.what());
+    report(e.what());
     return false;
   }
 }
@@ -289,9 +283,8 @@ int run_bench(const BenchArgs& args) {
   try {
     scene = load_scene_or_preset(args.scene);
     apply_camera(args.camera, scene);
-  } catch (const SceneError& e) {
-    std::fprintf(stderr, "sphray: %s\n", e.what());
-    return kExitUsage;
+  } catch (const SceneError&) {
+    return report_failure("out of memory loading the scene");
   }
   int status = 0;
   const std::unique_ptr<detail::AtomicOutput> json = open_json(args, status);
@@ -337,7 +330,7 @@ int run_bench(const BenchArgs& args) {
         every_hit
             ? run_every_hit_kind(args, scene, context, kinds[k], crossing_rows, progress, results)
             : run_kind(args, scene, context, kinds[k], rows, progress, results, measured[k]);
-    if (!agreed) return kExitFailure;
+    if (!agreed) return kExitIo;
   }
   std::printf("\n");
   for (std::size_t k = 0; k < kinds.size(); ++k)
@@ -346,7 +339,7 @@ int run_bench(const BenchArgs& args) {
               progress::duration_text(seconds_since(start)).c_str(),
               progress::duration_text(estimate).c_str());
   std::fflush(stdout);
-  if (json && !write_json(*json, context, results)) return kExitFailure;
+  if (json && !write_json(*json, context, results)) return kExitIo;
   return 0;
 }
 

@@ -7,25 +7,10 @@
 #include <utility>
 
 #include "bench/bench_agreement.hpp"
+#include "bench/tree_cache.hpp"
 
 namespace sphray::render::bench {
 namespace {
-
-// The default tree of the scene's spheres, built by the first row that asks and shared by the
-// others; a view of other spheres builds anew.
-struct SharedTree {
-  const float* built_from = nullptr;
-  std::shared_ptr<const SphereBVH> tree;
-
-  std::shared_ptr<const SphereBVH> get(SphereView spheres) {
-    if (!tree || built_from != spheres.cx) {
-      tree.reset();
-      tree = std::make_shared<const SphereBVH>(spheres);
-      built_from = spheres.cx;
-    }
-    return tree;
-  }
-};
 
 // Each ray's crossings as trace gives them, lists cut to what it kept.
 std::vector<Crossings> crossings_of(const CrossingRow& row, const CrossingTrace& trace,
@@ -94,13 +79,13 @@ void add(CrossingCheck& check, const Agreement& a) {
 }  // namespace
 
 std::vector<CrossingRow> sphray_crossing_rows() {
-  auto shared = std::make_shared<SharedTree>();
+  auto shared = std::make_shared<TreeCache>();  // the default tree, for every row
   CrossingRow count{"tree count_hits", true, false, true, {}, {}, {}};
   count.prepare = [shared](SphereView spheres) -> CrossingTrace {
     return [tree = shared->get(spheres)](std::span<const Ray> rays, std::span<std::size_t> totals,
                                          std::span<Hit>) { count_hits(*tree, rays, totals); };
   };
-  CrossingRow all{"tree intersect_all16", false, false, true, {}, {}, {}};
+  CrossingRow all{"tree intersect_all16", false, false, true, {}, {}, {}, true};
   all.prepare = [shared](SphereView spheres) -> CrossingTrace {
     return [tree = shared->get(spheres)](std::span<const Ray> rays, std::span<std::size_t> totals,
                                          std::span<Hit> lists) {

@@ -37,6 +37,8 @@ struct CrossingRow {
   std::string same_answer_as = {};
   std::function<CrossingTrace(SphereView spheres)> prepare;
   std::string skipped = {};
+  /// The row another library's rows are checked against, on every ray (one of sphray's).
+  bool reference = false;
 };
 
 /// The default tree's count_hits, intersect_all16 and intersect_nearest16 (a tree built the

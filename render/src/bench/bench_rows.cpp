@@ -2,6 +2,7 @@
 
 #include <memory>
 
+#include "bench/tree_cache.hpp"
 #include "dispatch/entry_table.hpp"  // each instruction set's brute force (sphray_kernel_internals)
 
 namespace sphray::render::bench {
@@ -52,23 +53,8 @@ Row brute_force_stream() {
   return {"brute force stream", true, true, true, prepare};
 }
 
-// The tree and stream rows of an instruction set share one build: the tree row builds it, the
-// stream row takes it over, so that no more than one tree of a large scene is alive at a time.
-struct TreeCache {
-  Isa isa;
-  std::shared_ptr<const SphereBVH> tree;
-
-  std::shared_ptr<const SphereBVH> get(SphereView spheres) {
-    if (!tree) tree = std::make_shared<const SphereBVH>(spheres, isa);
-    return tree;
-  }
-  std::shared_ptr<const SphereBVH> take(SphereView spheres) {
-    std::shared_ptr<const SphereBVH> t = get(spheres);
-    tree.reset();
-    return t;
-  }
-};
-
+// The tree and stream rows of an instruction set share one build (TreeCache): the tree row
+// builds it, the stream row takes it over.
 Row tree_per_ray(const std::shared_ptr<TreeCache>& cache, bool chosen) {
   auto prepare = [cache](SphereView spheres) -> Trace {
     return [tree = cache->get(spheres)](std::span<const Ray> rays, std::span<Hit> hits) {
@@ -76,7 +62,7 @@ Row tree_per_ray(const std::shared_ptr<TreeCache>& cache, bool chosen) {
         hits[i] = intersect(*tree, rays[i]);
     };
   };
-  return {std::string(isa_name(cache->isa)) + " tree", false, true, chosen, prepare};
+  return {std::string(isa_name(*cache->isa())) + " tree", false, true, chosen, prepare};
 }
 
 Row tree_stream(const std::shared_ptr<TreeCache>& cache, bool chosen) {
@@ -85,7 +71,7 @@ Row tree_stream(const std::shared_ptr<TreeCache>& cache, bool chosen) {
       intersect(*tree, rays, hits);
     };
   };
-  return {std::string(isa_name(cache->isa)) + " stream", false, true, chosen, prepare};
+  return {std::string(isa_name(*cache->isa())) + " stream", false, true, chosen, prepare};
 }
 
 }  // namespace
@@ -117,7 +103,7 @@ std::vector<Row> sphray_rows(std::size_t sphere_count) {
   }
   const Isa tree_isa = bvh_isa(sphere_count);  // what a tree of this scene takes by default
   for (Isa isa : supported_isas()) {
-    auto cache = std::make_shared<TreeCache>(TreeCache{isa, nullptr});
+    auto cache = std::make_shared<TreeCache>(isa);
     rows.push_back(tree_per_ray(cache, isa == tree_isa));
     if (isa != Isa::scalar) rows.push_back(tree_stream(cache, isa == tree_isa));
   }
