@@ -210,7 +210,8 @@ TEST(Wavefront, MatchesTheOnePathFunctionsOnEveryMaterial) {
 // start() against PathRandom and the camera, one path at a time, behind some live lanes: every
 // copy, with the lens (rtiow-final's defocus blur) and without it. The new paths' records hold
 // the state the tracer set in the lanes, the counter past the camera's draws and the ray's sky
-// blend.
+// blend. The tracer's part (wavefront.hpp): the camera lanes' pixel, sample and pixel corner,
+// and the path lanes' throughput, rays left and entry.
 void expect_starts_agree(const Scene& scene, StartFunction start) {
   const Camera camera(scene.camera, 160, 90);
   const std::uint64_t seed = 11;
@@ -218,12 +219,12 @@ void expect_starts_agree(const Scene& scene, StartFunction start) {
   const std::size_t begin = 37;
   w->live = kWavefront;
   for (std::size_t k = begin; k < kWavefront; ++k) {
-    w->key[k] = 1000 + 7 * k;
-    w->sample[k] = static_cast<std::uint32_t>(k % 5);
-    w->px[k] = static_cast<float>(k % 160), w->py[k] = static_cast<float>(k / 160 + 3);
-    w->tr[k] = 1.0f, w->tg[k] = 0.5f, w->tb[k] = 0.25f;
-    w->rays_left[k] = static_cast<std::int32_t>(k % 50 + 1);
-    w->slot[k] = static_cast<std::uint32_t>(3 * k);
+    w->camera.pixel[k] = 1000 + 7 * k;
+    w->camera.sample[k] = static_cast<std::uint32_t>(k % 5);
+    w->camera.x[k] = static_cast<float>(k % 160), w->camera.y[k] = static_cast<float>(k / 160 + 3);
+    w->path.throughput_r[k] = 1.0f, w->path.throughput_g[k] = 0.5f, w->path.throughput_b[k] = 0.25f;
+    w->path.rays_left[k] = static_cast<std::int32_t>(k % 50 + 1);
+    w->path.slot[k] = static_cast<std::uint32_t>(3 * k);
   }
   start(*w, begin, camera, PathRandom::seed_hash(seed));
   for (std::size_t k = begin; k < kWavefront; ++k) {

@@ -109,7 +109,7 @@ class TileTracer {
              Counters& counters, const Recorder* recorder) const {
     const auto tile_start = Clock::now();
     // The thread's wavefront, zeroed when made: the passes also run over the lanes just past the
-    // live ones (wavefront_passes.cpp), which so always hold defined values. (Nothing a tile
+    // live ones (Wavefront's lane rules), which so always hold defined values. (Nothing a tile
     // calls runs another tile's task on this thread: the kernel's queries start no tasks.)
     thread_local const std::unique_ptr<Wavefront> wavefront = std::make_unique<Wavefront>();
     Wavefront& w = *wavefront;
@@ -159,8 +159,9 @@ class TileTracer {
 
   // Starts paths next, next + 1, ... in the lanes behind the live paths, in whole groups of 32
   // lanes (the kernel's coherent group) while more than that are left to start. Here each lane's
-  // entry (zeroed: only a path that misses writes its light there), pixel and sample; the
-  // passes' start() draws the camera rays, all lanes together.
+  // path state (throughput, rays left and entry, zeroed: only a path that misses writes its light
+  // there) and camera sample (pixel, sample, the pixel's corner); the passes' start() draws the
+  // camera rays, all lanes together.
   void start_paths(const Tile& tile, std::uint32_t first, std::size_t paths, std::size_t& next,
                    Vec3* radiance, Wavefront& w) const {
     constexpr std::size_t kGroup = 32;
@@ -170,9 +171,9 @@ class TileTracer {
     const std::size_t end = begin + starts;
     const std::int32_t max_depth = options_.max_depth;
     for (std::size_t i = begin; i < end; ++i) {
-      w.tr[i] = w.tg[i] = w.tb[i] = 1.0f;
-      w.rays_left[i] = max_depth;
-      w.slot[i] = static_cast<std::uint32_t>(next + (i - begin));
+      w.path.throughput_r[i] = w.path.throughput_g[i] = w.path.throughput_b[i] = 1.0f;
+      w.path.rays_left[i] = max_depth;
+      w.path.slot[i] = static_cast<std::uint32_t>(next + (i - begin));
     }
     if (tile.width == kTileSize && tile.height == kTileSize) {  // sides known: shifts and masks
       constexpr std::integral_constant<std::size_t, kTileSize> side;
@@ -203,10 +204,10 @@ class TileTracer {
       const std::uint32_t p = path0 + static_cast<std::uint32_t>(i), pixel = p % pixels;
       const std::uint32_t x = x0 + pixel % static_cast<std::uint32_t>(width);
       const std::uint32_t y = y0 + pixel / static_cast<std::uint32_t>(width);
-      w.key[i] = y * image_width + x;  // the pixel's index in the image
-      w.sample[i] = first + p / pixels;
-      w.px[i] = static_cast<float>(static_cast<std::int32_t>(x));
-      w.py[i] = static_cast<float>(static_cast<std::int32_t>(y));
+      w.camera.pixel[i] = y * image_width + x;  // the pixel's index in the image
+      w.camera.sample[i] = first + p / pixels;
+      w.camera.x[i] = static_cast<float>(static_cast<std::int32_t>(x));
+      w.camera.y[i] = static_cast<float>(static_cast<std::int32_t>(y));
     }
   }
 

@@ -52,6 +52,9 @@ class ShadingTable {
 // a multiple of 4 KiB away, in the same set of the L1 cache, and a pass touches some 30 arrays.
 template <class T>
 using Lanes = std::array<T, kWavefront + 64 / sizeof(T)>;
+// Whole cache lines: each array of a part starts one, as the part does (alignas(64)).
+static_assert(sizeof(Lanes<float>) % 64 == 0 && sizeof(Lanes<std::uint64_t>) % 64 == 0 &&
+              sizeof(Lanes<std::uint16_t>) % 64 == 0);
 
 /// A path's state between bounces, in 32 bytes: a path moves to another lane with one store of
 /// its record, and the passes unpack eight records at a time into arrays by a transpose.
@@ -66,38 +69,119 @@ struct alignas(32) PathRecord {
 };
 static_assert(sizeof(PathRecord) == 32);
 
-/// A tile's paths: rays and hits for the kernel's stream call, and each path's record. The live
-/// paths are packed at the front; the tracer fills the lanes behind them with new paths. Before
-/// shading, the paths whose ray missed leave the lanes (their light is all they have left), so
-/// that the passes, one array per quantity, run over the hits alone. 83 KiB: the tracer keeps
-/// one per thread.
+// One bounce's lanes, and a start() call's: the parts of a Wavefront that its passes
+// (wavefront_passes.cpp) compute in, one array per quantity, lane k of each one path's. shade()
+// runs its passes in this order: partition (the misses out), light_misses, gather (the hits'
+// rays, spheres and records unpacked), surfaces, draw, scatter_all and compact (the next rays
+// and records packed). Each part says which passes write it and which read it. No part holds
+// anything from one shade() or start() call to the next: the records and rays do.
+
+/// A path's state, unpacked from its record: what goes with the path from bounce to bounce.
+/// gather writes it from the records (all but sky); draw advances the counter past its draws;
+/// scatter_all multiplies the throughput by the sphere's attenuation, counts the traced ray off
+/// rays_left and writes the next ray's sky blend; compact packs it into the records again.
+/// For new paths the tracer writes throughput, rays_left and slot, and start() the counter (past
+/// the camera's draws) and sky, then packs the records.
+struct alignas(64) PathLanes {
+  Lanes<float> throughput_r, throughput_g, throughput_b;
+  Lanes<std::uint64_t> counter;   // the path's PathRandom counter
+  Lanes<std::int32_t> rays_left;  // the rays the path may still trace, this one included
+  Lanes<std::uint32_t> slot;      // where the path's light goes (its radiance entry)
+  Lanes<float> sky;               // the next ray's blend of Sky::radiance (PathRecord::sky)
+};
+
+/// The path's ray, then its next one. gather writes the ray from the kernel's rays and t from
+/// its hits; surfaces reads them; scatter_all overwrites origin and direction with the next
+/// ray's (spawn()'s), which compact packs into the kernel's rays.
+struct alignas(64) RayLanes {
+  Lanes<float> origin_x, origin_y, origin_z;
+  Lanes<float> dir_x, dir_y, dir_z;
+  Lanes<float> t;  // the hit's distance along the ray
+};
+
+/// The hit sphere's shading row (SphereShading), by lane. gather writes it: row from the hits,
+/// the rest from the ShadingTable's rows. surfaces reads centre, radius and ior; draw kind and
+/// fuzz; scatter_all kind, fuzz and attenuation.
+struct alignas(64) SphereLanes {
+  Lanes<float> center_x, center_y, center_z, radius;
+  Lanes<float> attenuation_r, attenuation_g, attenuation_b;  // SphereShading's ar, ag, ab
+  Lanes<float> fuzz, ior;
+  Lanes<std::int32_t> kind;  // MaterialKind
+  Lanes<std::int32_t> row;   // the ShadingTable's row: ShadingTable::index(hit.id)
+};
+
+/// What sphray::surface() gives for the hit, but front_face (in ScatterLanes' facing and eta):
+/// surfaces writes it, scatter_all reads it to offset the next ray's origin (spawn()'s).
+struct alignas(64) SurfaceLanes {
+  Lanes<float> point_x, point_y, point_z;
+  Lanes<float> normal_x, normal_y, normal_z;  // outward
+  Lanes<float> error_x, error_y, error_z;     // the point's error bound
+};
+
+/// scatter()'s inputs and outcome. surfaces writes the facing normal, the incoming direction,
+/// eta and cosine; draw writes drawn, redraw and reflects (a dielectric's draw); scatter_all
+/// reads them all and writes alive, which compact reads.
+struct alignas(64) ScatterLanes {
+  Lanes<float> facing_x, facing_y, facing_z;        // the normal against the incoming ray
+  Lanes<float> incoming_x, incoming_y, incoming_z;  // the incoming direction, of unit length
+  Lanes<float> eta;     // a dielectric's ratio of indices, the ray's side over the other's
+  Lanes<float> cosine;  // between facing and the reversed incoming direction, at most 1
+  Lanes<float> drawn_x, drawn_y, drawn_z;  // the unit vector drawn (0 where none is drawn)
+  Lanes<std::int32_t> reflects;            // a dielectric reflects rather than refracts
+  Lanes<std::int32_t> redraw;  // draw() finishes the lane alone: a dielectric, or no point yet
+                               // inside the disk of the points drawn ahead
+  Lanes<std::int32_t> alive;   // the path goes on: not absorbed, and rays left
+};
+
+/// The new paths' camera samples, lanes [begin, live) of a start() call. The tracer writes
+/// pixel, sample and the pixel's corner (x, y); start() moves x, y to the sample's point in the
+/// pixel, draws the lens point and redraw, and reads them all for the camera rays. Nothing
+/// reads them once start() returns.
+struct alignas(64) CameraLanes {
+  Lanes<std::uint64_t> pixel;   // the pixel's index in the image (PathRandom's key)
+  Lanes<std::uint32_t> sample;  // the path's sample of its pixel
+  Lanes<float> x, y;            // the image point: the pixel's corner, then the sample's point
+  Lanes<float> lens_x, lens_y;  // the lens point in the unit disk (unread without defocus)
+  Lanes<std::int32_t> redraw;   // the lens points drawn ahead all rejected: redraw_lens draws on
+};
+
+/// A tile's paths, one per lane: rays and hits for the kernel's stream call, each path's record,
+/// and the lanes the passes compute in. 88 KiB: the tracer keeps one per thread.
+///
+/// The lanes, for every array here: lane k holds the path in lane k. The live paths are lanes
+/// [0, live), packed at the front in the order they started; the tracer fills the lanes behind
+/// them with new paths. Before shading, the paths whose ray missed leave the lanes (their light
+/// is all they have left), so that the passes run over the hits alone. The passes compute the
+/// lanes past the live ones up to the next multiple of 16 (wavefront_passes.cpp, padded()):
+/// those hold stale values of earlier rounds, never undefined ones (the tracer's wavefront is
+/// zeroed once, when made), and what is computed or stored in them is never read as a live
+/// path's, nor reaches a radiance entry.
 struct Wavefront {
-  std::array<Ray, kWavefront> rays;  // the passes write origin to tmax: the masks stay as made
+  // The kernel's queue. The stream call reads rays [0, live) and writes their hits; shade()
+  // reads both and leaves in rays the next rays of the paths still live, start() the new
+  // paths' camera rays (the passes write origin to tmax: the masks stay as made).
+  std::array<Ray, kWavefront> rays;
   std::array<Hit, kWavefront> hits;
-  alignas(64) std::array<PathRecord, kWavefront> paths;
   std::size_t live = 0;
-  // One bounce's misses' records: all that a miss needs for its light.
+
+  // The records. paths: the live paths' state between bounces, which partition moves with
+  // their rays and hits, gather unpacks, and compact and start() write. missed: one bounce's
+  // misses, all that a miss needs for its light; partition writes them, light_misses reads.
+  alignas(64) std::array<PathRecord, kWavefront> paths;
   alignas(64) std::array<PathRecord, kWavefront> missed;
 
-  // One bounce's scratch, written and read by shade(); start() writes the new paths' state here
-  // before it makes their records.
-  alignas(64) Lanes<float> tr, tg, tb;  // throughput
-  Lanes<std::uint64_t> counter;         // each path's PathRandom counter
-  Lanes<std::int32_t> rays_left;        // the rays the path may still trace, this one included
-  Lanes<std::uint32_t> slot;            // where the path's light goes (its radiance entry)
-  alignas(64) Lanes<float> sky;         // the next ray's blend of Sky::radiance
-  alignas(64) Lanes<float> ox, oy, oz, dx, dy, dz, t;  // the ray, then the next one
-  alignas(64) Lanes<float> cx, cy, cz, radius, ar, ag, ab, fuzz, ior;
-  alignas(64) Lanes<float> ex, ey, ez;  // surface()'s error bound
-  alignas(64) Lanes<std::int32_t> kind, alive, row;
-  alignas(64) Lanes<float> px, py, pz, nx, ny, nz;  // surface point and outward normal
-  alignas(64) Lanes<float> onx, ony, onz;           // the normal against the incoming ray
-  alignas(64) Lanes<float> ux, uy, uz;              // the unit incoming direction
-  alignas(64) Lanes<float> eta, cosine, vx, vy, vz;
-  alignas(64) Lanes<std::int32_t> reflects, redraw;
-  Lanes<std::uint16_t> listed;           // the lanes draw() finishes one at a time
-  alignas(64) Lanes<std::uint64_t> key;  // a new path's pixel index in the image
-  Lanes<std::uint32_t> sample;           // and its sample
+  // One bounce's lanes, shade()'s.
+  PathLanes path;
+  RayLanes ray;
+  SphereLanes sphere;
+  SurfaceLanes surface;
+  ScatterLanes scatter;
+  // The lanes a pass finishes one at a time (list_redraws), in order: draw()'s (the redraw
+  // flags of scatter) or start()'s (those of camera), written and read within that pass.
+  Lanes<std::uint16_t> listed;
+
+  // A start() call's lanes.
+  CameraLanes camera;
 };
 
 /// The first point (u, v) of the unit disk, u^2 + v^2 = s < 1, that PathRandom::unit_vector and
@@ -127,11 +211,11 @@ inline DiskPoint disk_point(std::uint64_t counter) {
 using ShadeFunction = void (*)(Wavefront& w, const ShadingTable& table, const Sky& sky,
                                Vec3* radiance);
 
-/// Starts the paths in lanes [begin, live): from each lane's key (pixel index), sample and
-/// pixel corner (px, py), its PathRandom counter past the camera's draws and its camera ray,
-/// as PathRandom(seed, key, sample) then camera.ray(x + uniform, y + uniform, in_unit_disk()
+/// Starts the paths in lanes [begin, live): from each lane's camera sample (pixel index, sample
+/// and pixel corner x, y), its PathRandom counter past the camera's draws and its camera ray, as
+/// PathRandom(seed, pixel, sample) then camera.ray(x + uniform, y + uniform, in_unit_disk()
 /// when the camera has defocus) make them, and its record, with the throughput, rays left and
-/// entry (slot) the tracer set in the lanes. seed_hash is PathRandom::seed_hash(seed).
+/// entry (slot) the tracer set in its path lanes. seed_hash is PathRandom::seed_hash(seed).
 using StartFunction = void (*)(Wavefront& w, std::size_t begin, const Camera& camera,
                                std::uint64_t seed_hash);
 

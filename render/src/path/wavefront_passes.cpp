@@ -51,9 +51,8 @@ float away(float x, float sign) {
 // The lanes a float pass runs over: the live ones and those up to the next multiple of 16, the
 // widest copy's vector, so that no pass ends in a tail of lanes one at a time (GCC's epilogue:
 // scalar divisions and square roots, a visible share of shade()'s profile; docs/history.md,
-// "The third round: misses out before shading"). The lanes past the live ones hold values of
-// earlier rounds (the tracer's wavefront is zeroed once, when made); what they compute is never
-// read. Passes that write outside the lanes stop at the live count.
+// "The third round: misses out before shading"). What the lanes past the live ones hold, and
+// what becomes of what is computed in them: Wavefront's lane rules (wavefront.hpp).
 constexpr std::size_t kLaneBlock = 16;
 static_assert(kWavefront % kLaneBlock == 0);
 std::size_t padded(std::size_t live) {
@@ -112,71 +111,87 @@ static_assert(offsetof(Ray, origin) == 0 && offsetof(Ray, dir) == 12 && offsetof
 // their rows loaded whole and transposed: a loop of one load a field costs some 30 instructions
 // a lane (GCC's tuning here emits no gather instructions). The last lanes one by one.
 void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t lanes) {
+  SphereLanes& sphere = w.sphere;
   std::size_t k = 0;
   for (; kTransposes && k + 8 <= lanes; k += 8) {
     Floats8 lo[8], hi[8];
     for (int i = 0; i < 8; ++i) {
-      load8(lo[i], &rows[w.row[k + i]].cx);
-      load8(hi[i], &rows[w.row[k + i]].ior);
+      load8(lo[i], &rows[sphere.row[k + i]].cx);
+      load8(hi[i], &rows[sphere.row[k + i]].ior);
     }
     transpose8(lo);
     transpose8(hi);
-    store8(&w.cx[k], lo[0]), store8(&w.cy[k], lo[1]), store8(&w.cz[k], lo[2]);
-    store8(&w.radius[k], lo[3]);
-    store8(&w.ar[k], lo[4]), store8(&w.ag[k], lo[5]), store8(&w.ab[k], lo[6]);
-    store8(&w.fuzz[k], lo[7]), store8(&w.ior[k], hi[0]), store8(&w.kind[k], hi[1]);
+    store8(&sphere.center_x[k], lo[0]);
+    store8(&sphere.center_y[k], lo[1]);
+    store8(&sphere.center_z[k], lo[2]);
+    store8(&sphere.radius[k], lo[3]);
+    store8(&sphere.attenuation_r[k], lo[4]);
+    store8(&sphere.attenuation_g[k], lo[5]);
+    store8(&sphere.attenuation_b[k], lo[6]);
+    store8(&sphere.fuzz[k], lo[7]), store8(&sphere.ior[k], hi[0]), store8(&sphere.kind[k], hi[1]);
   }
   for (; k < lanes; ++k) {
-    const SphereShading& s = rows[w.row[k]];
-    w.cx[k] = s.cx, w.cy[k] = s.cy, w.cz[k] = s.cz, w.radius[k] = s.radius;
-    w.ar[k] = s.ar, w.ag[k] = s.ag, w.ab[k] = s.ab;
-    w.fuzz[k] = s.fuzz, w.ior[k] = s.ior, w.kind[k] = s.kind;
+    const SphereShading& s = rows[sphere.row[k]];
+    sphere.center_x[k] = s.cx, sphere.center_y[k] = s.cy, sphere.center_z[k] = s.cz;
+    sphere.radius[k] = s.radius;
+    sphere.attenuation_r[k] = s.ar, sphere.attenuation_g[k] = s.ag, sphere.attenuation_b[k] = s.ab;
+    sphere.fuzz[k] = s.fuzz, sphere.ior[k] = s.ior, sphere.kind[k] = s.kind;
   }
 }
 
 // The records of lanes [0, lanes) as one array per quantity, eight at a time transposed (the
-// last eight may pass the live lanes: every lane has a record), or one lane at a time.
+// last eight may pass the live lanes: every lane has a record), or one lane at a time. All but
+// the sky blend, which scatter_all writes for the next ray.
 void unpack_records(Wavefront& w, std::size_t lanes) {
   static_assert(kWavefront % 8 == 0);
+  PathLanes& path = w.path;
   std::size_t k = 0;
   for (; kTransposes && k < lanes; k += 8) {
     Floats8 v[8];
     for (std::size_t i = 0; i < 8; ++i)
       load8(v[i], &w.paths[k + i]);
     transpose8(v);
-    store8(&w.tr[k], v[0]), store8(&w.tg[k], v[1]), store8(&w.tb[k], v[2]);
-    store8(&w.rays_left[k], v[3]), store8(&w.slot[k], v[4]);
+    store8(&path.throughput_r[k], v[0]);
+    store8(&path.throughput_g[k], v[1]);
+    store8(&path.throughput_b[k], v[2]);
+    store8(&path.rays_left[k], v[3]), store8(&path.slot[k], v[4]);
     const Floats8 c0 = __builtin_shufflevector(v[5], v[6], 0, 8, 1, 9, 2, 10, 3, 11);
     const Floats8 c1 = __builtin_shufflevector(v[5], v[6], 4, 12, 5, 13, 6, 14, 7, 15);
-    store8(&w.counter[k], c0), store8(&w.counter[k + 4], c1);
+    store8(&path.counter[k], c0), store8(&path.counter[k + 4], c1);
   }
   for (; k < lanes; ++k) {
-    const PathRecord& path = w.paths[k];
-    w.tr[k] = path.tr, w.tg[k] = path.tg, w.tb[k] = path.tb;
-    w.rays_left[k] = path.rays_left, w.slot[k] = path.slot, w.counter[k] = path.counter();
+    const PathRecord& record = w.paths[k];
+    path.throughput_r[k] = record.tr, path.throughput_g[k] = record.tg;
+    path.throughput_b[k] = record.tb;
+    path.rays_left[k] = record.rays_left, path.slot[k] = record.slot;
+    path.counter[k] = record.counter();
   }
 }
 
 // Each hit path's ray (eight at a time transposed, the last ones one by one), hit, sphere and
-// state, one array per quantity.
+// state, one array per quantity: the ray lanes, the sphere lanes and the path lanes.
 void gather(Wavefront& w, const ShadingTable& table, std::size_t lanes) {
+  RayLanes& ray = w.ray;
   std::size_t k = 0;
   for (; kTransposes && k + 8 <= lanes; k += 8) {
     Floats8 v[8];
     for (int i = 0; i < 8; ++i)
       load8(v[i], &w.rays[k + i]);
     transpose8(v);
-    store8(&w.ox[k], v[0]), store8(&w.oy[k], v[1]), store8(&w.oz[k], v[2]);
-    store8(&w.dx[k], v[3]), store8(&w.dy[k], v[4]), store8(&w.dz[k], v[5]);
+    store8(&ray.origin_x[k], v[0]), store8(&ray.origin_y[k], v[1]);
+    store8(&ray.origin_z[k], v[2]);
+    store8(&ray.dir_x[k], v[3]), store8(&ray.dir_y[k], v[4]), store8(&ray.dir_z[k], v[5]);
   }
   for (; k < lanes; ++k) {
-    const Ray& ray = w.rays[k];
-    w.ox[k] = ray.origin.x, w.oy[k] = ray.origin.y, w.oz[k] = ray.origin.z;
-    w.dx[k] = ray.dir.x, w.dy[k] = ray.dir.y, w.dz[k] = ray.dir.z;
+    const Ray& kernel_ray = w.rays[k];
+    ray.origin_x[k] = kernel_ray.origin.x, ray.origin_y[k] = kernel_ray.origin.y;
+    ray.origin_z[k] = kernel_ray.origin.z;
+    ray.dir_x[k] = kernel_ray.dir.x, ray.dir_y[k] = kernel_ray.dir.y;
+    ray.dir_z[k] = kernel_ray.dir.z;
   }
   for (k = 0; k < lanes; ++k) {
-    w.t[k] = w.hits[k].t;
-    w.row[k] = static_cast<std::int32_t>(table.index(w.hits[k].id));
+    ray.t[k] = w.hits[k].t;
+    w.sphere.row[k] = static_cast<std::int32_t>(table.index(w.hits[k].id));
   }
   gather_rows(w, table.rows(), lanes);
   unpack_records(w, lanes);
@@ -186,60 +201,70 @@ void gather(Wavefront& w, const ShadingTable& table, std::size_t lanes) {
 // The normal and point in double, the front face from the ray's origin (tmin is 0 here), and
 // the error bound, as surface() computes them.
 void surfaces(Wavefront& w, std::size_t lanes) {
+  const RayLanes& ray = w.ray;
+  const SphereLanes& sphere = w.sphere;
+  SurfaceLanes& surface = w.surface;
+  ScatterLanes& scatter = w.scatter;
   for (std::size_t k = 0; k < lanes; ++k) {
-    const float px = w.ox[k] + w.t[k] * w.dx[k];
-    const float py = w.oy[k] + w.t[k] * w.dy[k];
-    const float pz = w.oz[k] + w.t[k] * w.dz[k];
-    const float fx = px - w.cx[k], fy = py - w.cy[k], fz = pz - w.cz[k];
+    const float px = ray.origin_x[k] + ray.t[k] * ray.dir_x[k];
+    const float py = ray.origin_y[k] + ray.t[k] * ray.dir_y[k];
+    const float pz = ray.origin_z[k] + ray.t[k] * ray.dir_z[k];
+    const float fx = px - sphere.center_x[k], fy = py - sphere.center_y[k],
+                fz = pz - sphere.center_z[k];
     const bool has_direction =
         finite(fx) && finite(fy) && finite(fz) && (fx != 0.0f || fy != 0.0f || fz != 0.0f);
-    const double tx = has_direction ? fx : -w.dx[k];
-    const double ty = has_direction ? fy : -w.dy[k];
-    const double tz = has_direction ? fz : -w.dz[k];
+    const double tx = has_direction ? fx : -ray.dir_x[k];
+    const double ty = has_direction ? fy : -ray.dir_y[k];
+    const double tz = has_direction ? fz : -ray.dir_z[k];
     const double tlength = std::sqrt(tx * tx + ty * ty + tz * tz);
     const double dnx = tx / tlength, dny = ty / tlength, dnz = tz / tlength;
     const float nx = static_cast<float>(dnx), ny = static_cast<float>(dny),
                 nz = static_cast<float>(dnz);
-    w.nx[k] = nx, w.ny[k] = ny, w.nz[k] = nz;
-    const float r = w.radius[k];
-    const float sx = static_cast<float>(w.cx[k] + r * dnx);
-    const float sy = static_cast<float>(w.cy[k] + r * dny);
-    const float sz = static_cast<float>(w.cz[k] + r * dnz);
-    w.px[k] = sx, w.py[k] = sy, w.pz[k] = sz;
+    surface.normal_x[k] = nx, surface.normal_y[k] = ny, surface.normal_z[k] = nz;
+    const float r = sphere.radius[k];
+    const float sx = static_cast<float>(sphere.center_x[k] + r * dnx);
+    const float sy = static_cast<float>(sphere.center_y[k] + r * dny);
+    const float sz = static_cast<float>(sphere.center_z[k] + r * dnz);
+    surface.point_x[k] = sx, surface.point_y[k] = sy, surface.point_z[k] = sz;
     const float radial = kGamma10 * r;
-    w.ex[k] = radial * std::fabs(nx) + kGamma2 * std::fabs(sx);
-    w.ey[k] = radial * std::fabs(ny) + kGamma2 * std::fabs(sy);
-    w.ez[k] = radial * std::fabs(nz) + kGamma2 * std::fabs(sz);
-    const double gx = static_cast<double>(w.ox[k]) - w.cx[k];
-    const double gy = static_cast<double>(w.oy[k]) - w.cy[k];
-    const double gz = static_cast<double>(w.oz[k]) - w.cz[k];
+    surface.error_x[k] = radial * std::fabs(nx) + kGamma2 * std::fabs(sx);
+    surface.error_y[k] = radial * std::fabs(ny) + kGamma2 * std::fabs(sy);
+    surface.error_z[k] = radial * std::fabs(nz) + kGamma2 * std::fabs(sz);
+    const double gx = static_cast<double>(ray.origin_x[k]) - sphere.center_x[k];
+    const double gy = static_cast<double>(ray.origin_y[k]) - sphere.center_y[k];
+    const double gz = static_cast<double>(ray.origin_z[k]) - sphere.center_z[k];
     const bool front = gx * gx + gy * gy + gz * gz > static_cast<double>(r) * r;
-    const float length = std::sqrt(w.dx[k] * w.dx[k] + w.dy[k] * w.dy[k] + w.dz[k] * w.dz[k]);
-    w.ux[k] = w.dx[k] / length, w.uy[k] = w.dy[k] / length, w.uz[k] = w.dz[k] / length;
+    const float dx = ray.dir_x[k], dy = ray.dir_y[k], dz = ray.dir_z[k];
+    const float length = std::sqrt(dx * dx + dy * dy + dz * dz);
+    scatter.incoming_x[k] = dx / length, scatter.incoming_y[k] = dy / length;
+    scatter.incoming_z[k] = dz / length;
     // The normal against the incoming ray (as scatter() turns it), and a dielectric's eta.
     // Every load and store unconditional: a conditional one keeps GCC from vectorising.
     const float ox = front ? nx : -nx, oy = front ? ny : -ny, oz = front ? nz : -nz;
-    w.onx[k] = ox, w.ony[k] = oy, w.onz[k] = oz;
-    const float ior = w.ior[k], inverse = 1.0f / ior;
-    w.eta[k] = front ? inverse : ior;
-    const float c = -w.ux[k] * ox + -w.uy[k] * oy + -w.uz[k] * oz;
-    w.cosine[k] = 1.0f < c ? 1.0f : c;
+    scatter.facing_x[k] = ox, scatter.facing_y[k] = oy, scatter.facing_z[k] = oz;
+    const float ior = sphere.ior[k], inverse = 1.0f / ior;
+    scatter.eta[k] = front ? inverse : ior;
+    const float c =
+        -scatter.incoming_x[k] * ox + -scatter.incoming_y[k] * oy + -scatter.incoming_z[k] * oz;
+    scatter.cosine[k] = 1.0f < c ? 1.0f : c;
   }
 }
 
-// Lists in w.listed the lanes of [begin, end) whose redraw flag is set, in order, and returns
-// how many: the flags of 64 lanes as the bits of a word (a loop that vectorises), then the word's
-// set bits. (A loop adding each flag to the count after storing its lane, a store and a dependent
-// add every lane, was a visible share of shade()'s profile; docs/history.md, "The third round:
-// misses out before shading".)
-std::size_t list_redraws(Wavefront& w, std::size_t begin, std::size_t end) {
+// Lists in w.listed the lanes of [begin, end) whose flag in redraw (a pass's own: the scatter
+// lanes' or the camera lanes') is set, in order, and returns how many: the flags of 64 lanes as
+// the bits of a word (a loop that vectorises), then the word's set bits. (A loop adding each
+// flag to the count after storing its lane, a store and a dependent add every lane, was a
+// visible share of shade()'s profile; docs/history.md, "The third round: misses out before
+// shading".)
+std::size_t list_redraws(Wavefront& w, const Lanes<std::int32_t>& redraw, std::size_t begin,
+                         std::size_t end) {
   static_assert(kWavefront % 64 == 0);
   constexpr std::uint64_t kAll = ~std::uint64_t{0};
   std::size_t count = 0;
   for (std::size_t base = begin / 64 * 64; base < end; base += 64) {
     std::uint64_t bits = 0;
     for (std::size_t i = 0; i < 64; ++i)
-      bits |= static_cast<std::uint64_t>(w.redraw[base + i] & 1) << i;
+      bits |= static_cast<std::uint64_t>(redraw[base + i] & 1) << i;
     bits &= base < begin ? kAll << (begin - base) : kAll;
     bits &= end - base < 64 ? (std::uint64_t{1} << (end - base)) - 1 : kAll;
     for (; bits != 0; bits &= bits - 1)
@@ -251,15 +276,15 @@ std::size_t list_redraws(Wavefront& w, std::size_t begin, std::size_t end) {
 // A dielectric's choice between reflection and refraction, drawn only where it may refract
 // (scatter()'s dielectric: a matched index is no interface, and takes no draw).
 void choose_reflection(Wavefront& w, std::size_t k) {
-  const float cosine = w.cosine[k], eta = w.eta[k];
+  const float cosine = w.scatter.cosine[k], eta = w.scatter.eta[k];
   const float sine = std::sqrt(0.0f < 1.0f - cosine * cosine ? 1.0f - cosine * cosine : 0.0f);
   const bool cannot_refract = eta * sine > 1.0f;
   if (cannot_refract || eta == 1.0f) {
-    w.reflects[k] = cannot_refract;
+    w.scatter.reflects[k] = cannot_refract;
     return;
   }
-  w.counter[k] += PathRandom::kStep;
-  w.reflects[k] = schlick(cosine, eta) > PathRandom::at(w.counter[k]);
+  w.path.counter[k] += PathRandom::kStep;
+  w.scatter.reflects[k] = schlick(cosine, eta) > PathRandom::at(w.path.counter[k]);
 }
 
 // PathRandom::at, with the top 24 bits converted through int32 (exact either way): the
@@ -277,8 +302,11 @@ float uniform_at(std::uint64_t counter) {
 // ahead rather than two, a lane in five went on one lane at a time.)
 void draw(Wavefront& w, std::size_t hits, std::size_t lanes) {
   constexpr std::uint64_t kStep = PathRandom::kStep;
+  const SphereLanes& sphere = w.sphere;
+  PathLanes& path = w.path;
+  ScatterLanes& scatter = w.scatter;
   for (std::size_t k = 0; k < lanes; ++k) {
-    const std::uint64_t counter = w.counter[k];
+    const std::uint64_t counter = path.counter[k];
     const float u1 = 2.0f * uniform_at(counter + kStep) - 1.0f;
     const float v1 = 2.0f * uniform_at(counter + 2 * kStep) - 1.0f;
     const float s1 = u1 * u1 + v1 * v1;
@@ -286,57 +314,65 @@ void draw(Wavefront& w, std::size_t hits, std::size_t lanes) {
     const float u2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 3 * kStep) - 1.0f : u1;
     const float v2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 4 * kStep) - 1.0f : v1;
     const float s2 = u2 * u2 + v2 * v2;
-    const std::int32_t kind = w.kind[k];
-    const std::int32_t fuzzed = (kind == kMetal ? 1 : 0) & (w.fuzz[k] > 0.0f ? 1 : 0);
+    const std::int32_t kind = sphere.kind[k];
+    const std::int32_t fuzzed = (kind == kMetal ? 1 : 0) & (sphere.fuzz[k] > 0.0f ? 1 : 0);
     const std::int32_t wants = (kind == kLambertian ? 1 : 0) | fuzzed;
     const std::int32_t first = s1 < 1.0f ? 1 : 0;
     const std::int32_t second = (1 - first) & (s2 < 1.0f ? 1 : 0);
     const std::int32_t drawn = wants & (first | second);
     const float u = first ? u1 : u2, v = first ? v1 : v2, s = first ? s1 : s2;
     const float scale = 2.0f * std::sqrt(1.0f - s);
-    w.vx[k] = drawn ? u * scale : 0.0f;
-    w.vy[k] = drawn ? v * scale : 0.0f;
-    w.vz[k] = drawn ? 1.0f - 2.0f * s : 0.0f;
+    scatter.drawn_x[k] = drawn ? u * scale : 0.0f;
+    scatter.drawn_y[k] = drawn ? v * scale : 0.0f;
+    scatter.drawn_z[k] = drawn ? 1.0f - 2.0f * s : 0.0f;
     const std::uint64_t past = first ? counter + 2 * kStep : counter + 4 * kStep;
-    w.counter[k] = drawn ? past : counter;
-    w.reflects[k] = 0;
-    w.redraw[k] = (wants & (1 - (first | second))) | (kind == kDielectric ? 1 : 0);
+    path.counter[k] = drawn ? past : counter;
+    scatter.reflects[k] = 0;
+    scatter.redraw[k] = (wants & (1 - (first | second))) | (kind == kDielectric ? 1 : 0);
   }
-  const std::size_t count = list_redraws(w, 0, hits);
+  const std::size_t count = list_redraws(w, scatter.redraw, 0, hits);
   for (std::size_t j = 0; j < count; ++j) {
     const std::size_t k = w.listed[j];
-    if (w.kind[k] == kDielectric) {
+    if (sphere.kind[k] == kDielectric) {
       choose_reflection(w, k);
       continue;
     }
-    const DiskPoint p = disk_point(w.counter[k] + 2 * kPointsAhead * kStep);  // past them
+    const DiskPoint p = disk_point(path.counter[k] + 2 * kPointsAhead * kStep);  // past them
     const float scale = 2.0f * std::sqrt(1.0f - p.s);
-    w.vx[k] = p.u * scale, w.vy[k] = p.v * scale, w.vz[k] = 1.0f - 2.0f * p.s;
-    w.counter[k] = p.counter;
+    scatter.drawn_x[k] = p.u * scale, scatter.drawn_y[k] = p.v * scale;
+    scatter.drawn_z[k] = 1.0f - 2.0f * p.s;
+    path.counter[k] = p.counter;
   }
 }
 
 // offset_origin(): the surface point moved past its error box along the outward normal, to the
-// side the new direction leaves by, each coordinate then stepped away from the point.
+// side the new direction leaves by, each coordinate then stepped away from the point: the next
+// ray's origin.
 void offset_origin(Wavefront& w, std::size_t k, float dx, float dy, float dz) {
-  const float nx = w.nx[k], ny = w.ny[k], nz = w.nz[k];  // outward
-  const float d = std::fabs(nx) * w.ex[k] + std::fabs(ny) * w.ey[k] + std::fabs(nz) * w.ez[k];
+  const SurfaceLanes& surface = w.surface;
+  const float nx = surface.normal_x[k], ny = surface.normal_y[k], nz = surface.normal_z[k];
+  const float d = std::fabs(nx) * surface.error_x[k] + std::fabs(ny) * surface.error_y[k] +
+                  std::fabs(nz) * surface.error_z[k];
   const bool inward = dx * nx + dy * ny + dz * nz < 0.0f;
   const float fx = inward ? -(d * nx) : d * nx;
   const float fy = inward ? -(d * ny) : d * ny;
   const float fz = inward ? -(d * nz) : d * nz;
-  w.ox[k] = away(w.px[k] + fx, fx);
-  w.oy[k] = away(w.py[k] + fy, fy);
-  w.oz[k] = away(w.pz[k] + fz, fz);
+  w.ray.origin_x[k] = away(surface.point_x[k] + fx, fx);
+  w.ray.origin_y[k] = away(surface.point_y[k] + fy, fy);
+  w.ray.origin_z[k] = away(surface.point_z[k] + fz, fz);
 }
 
 // scatter()'s direction and attenuation for every lane, the three materials computed and one
 // selected, and spawn()'s origin of the next ray.
 void scatter_all(Wavefront& w, std::size_t lanes) {
+  const SphereLanes& sphere = w.sphere;
+  PathLanes& path = w.path;
+  RayLanes& ray = w.ray;
+  ScatterLanes& scatter = w.scatter;
   for (std::size_t k = 0; k < lanes; ++k) {
-    const float nx = w.onx[k], ny = w.ony[k], nz = w.onz[k];
-    const float ux = w.ux[k], uy = w.uy[k], uz = w.uz[k];
-    const float vx = w.vx[k], vy = w.vy[k], vz = w.vz[k];
+    const float nx = scatter.facing_x[k], ny = scatter.facing_y[k], nz = scatter.facing_z[k];
+    const float ux = scatter.incoming_x[k], uy = scatter.incoming_y[k], uz = scatter.incoming_z[k];
+    const float vx = scatter.drawn_x[k], vy = scatter.drawn_y[k], vz = scatter.drawn_z[k];
     // Lambertian: n + a unit vector, n itself where they nearly cancel.
     const float lx = nx + vx, ly = ny + vy, lz = nz + vz;
     // near_zero() as a sum of floats: GCC vectorises no && of float comparisons.
@@ -348,44 +384,47 @@ void scatter_all(Wavefront& w, std::size_t lanes) {
     const float twice = 2.0f * (ux * nx + uy * ny + uz * nz);
     const float rx = ux - twice * nx, ry = uy - twice * ny, rz = uz - twice * nz;
     const float rlength = std::sqrt(rx * rx + ry * ry + rz * rz);
-    const float fuzz = w.fuzz[k];
+    const float fuzz = sphere.fuzz[k];
     const bool fuzzed = fuzz > 0.0f;
     const float mx = fuzzed ? rx / rlength + fuzz * vx : rx;
     const float my = fuzzed ? ry / rlength + fuzz * vy : ry;
     const float mz = fuzzed ? rz / rlength + fuzz * vz : rz;
     // Integers of one width, no bool: GCC vectorises no mix of them.
     const std::int32_t below = mx * nx + my * ny + mz * nz <= 0.0f ? 1 : 0;
-    const std::int32_t absorbed = (w.kind[k] == kMetal ? 1 : 0) & below;
+    const std::int32_t absorbed = (sphere.kind[k] == kMetal ? 1 : 0) & below;
     // Dielectric: the mirror direction or refract()'s.
-    const float eta = w.eta[k], cosine = w.cosine[k];
+    const float eta = scatter.eta[k], cosine = scatter.cosine[k];
     const float ax = eta * (ux + cosine * nx), ay = eta * (uy + cosine * ny),
                 az = eta * (uz + cosine * nz);
     const float along = -std::sqrt(std::fabs(1.0f - (ax * ax + ay * ay + az * az)));
-    const bool reflects = w.reflects[k];
+    const bool reflects = scatter.reflects[k];
     const float gx = reflects ? rx : ax + along * nx;
     const float gy = reflects ? ry : ay + along * ny;
     const float gz = reflects ? rz : az + along * nz;
-    const std::int32_t kind = w.kind[k];
+    const std::int32_t kind = sphere.kind[k];
     const float dx = kind == kLambertian ? (near_zero ? nx : lx) : (kind == kMetal ? mx : gx);
     const float dy = kind == kLambertian ? (near_zero ? ny : ly) : (kind == kMetal ? my : gy);
     const float dz = kind == kLambertian ? (near_zero ? nz : lz) : (kind == kMetal ? mz : gz);
-    w.dx[k] = dx, w.dy[k] = dy, w.dz[k] = dz;
-    w.sky[k] = sky_blend(dx, dy, dz);
+    ray.dir_x[k] = dx, ray.dir_y[k] = dy, ray.dir_z[k] = dz;
+    path.sky[k] = sky_blend(dx, dy, dz);
     offset_origin(w, k, dx, dy, dz);
     // A path that traced its last ray brings no light, as the book's max_depth.
-    const std::int32_t more = w.rays_left[k] > 1 ? 1 : 0;
-    w.alive[k] = (1 - absorbed) & more;
-    w.rays_left[k] = w.rays_left[k] - 1;
-    w.tr[k] = w.tr[k] * w.ar[k], w.tg[k] = w.tg[k] * w.ag[k], w.tb[k] = w.tb[k] * w.ab[k];
+    const std::int32_t more = path.rays_left[k] > 1 ? 1 : 0;
+    scatter.alive[k] = (1 - absorbed) & more;
+    path.rays_left[k] = path.rays_left[k] - 1;
+    path.throughput_r[k] = path.throughput_r[k] * sphere.attenuation_r[k];
+    path.throughput_g[k] = path.throughput_g[k] * sphere.attenuation_g[k];
+    path.throughput_b[k] = path.throughput_b[k] * sphere.attenuation_b[k];
   }
 }
 
 // Lanes k to k + 8's next rays as the kernel's Rays' first 8 floats (the mask stays as the Ray
 // was made), by a transpose: row i is lane k + i's ray.
-[[gnu::always_inline]] inline void next_rays(const Wavefront& w, std::size_t k,
+[[gnu::always_inline]] inline void next_rays(const RayLanes& ray, std::size_t k,
                                              Floats8 (&rays)[8]) {
-  load8(rays[0], &w.ox[k]), load8(rays[1], &w.oy[k]), load8(rays[2], &w.oz[k]);
-  load8(rays[3], &w.dx[k]), load8(rays[4], &w.dy[k]), load8(rays[5], &w.dz[k]);
+  load8(rays[0], &ray.origin_x[k]), load8(rays[1], &ray.origin_y[k]);
+  load8(rays[2], &ray.origin_z[k]);
+  load8(rays[3], &ray.dir_x[k]), load8(rays[4], &ray.dir_y[k]), load8(rays[5], &ray.dir_z[k]);
   const Ray unbounded{};  // tmin and tmax as every Ray has them
   rays[6] = Floats8{} + unbounded.tmin;
   rays[7] = Floats8{} + unbounded.tmax;
@@ -395,31 +434,31 @@ void scatter_all(Wavefront& w, std::size_t lanes) {
 // Lanes k to k + 8's state that goes with a path to its next lane, as records (the bits of the
 // throughput, rays left, entry, the counter's low and high halves and the sky blend, in
 // PathRecord's order), by a transpose: row i is lane k + i's record.
-[[gnu::always_inline]] inline void path_records(const Wavefront& w, std::size_t k,
+[[gnu::always_inline]] inline void path_records(const PathLanes& path, std::size_t k,
                                                 Floats8 (&v)[8]) {
   Floats8 c0, c1;
-  load8(v[0], &w.tr[k]), load8(v[1], &w.tg[k]), load8(v[2], &w.tb[k]);
-  load8(v[3], &w.rays_left[k]), load8(v[4], &w.slot[k]);
-  load8(c0, &w.counter[k]), load8(c1, &w.counter[k + 4]);
+  load8(v[0], &path.throughput_r[k]), load8(v[1], &path.throughput_g[k]);
+  load8(v[2], &path.throughput_b[k]);
+  load8(v[3], &path.rays_left[k]), load8(v[4], &path.slot[k]);
+  load8(c0, &path.counter[k]), load8(c1, &path.counter[k + 4]);
   v[5] = __builtin_shufflevector(c0, c1, 0, 2, 4, 6, 8, 10, 12, 14);
   v[6] = __builtin_shufflevector(c0, c1, 1, 3, 5, 7, 9, 11, 13, 15);
-  load8(v[7], &w.sky[k]);
+  load8(v[7], &path.sky[k]);
   transpose8(v);
 }
 
 // Lane k's record, as path_records() makes them.
-PathRecord record_of(const Wavefront& w, std::size_t k) {
-  const std::uint64_t counter = w.counter[k];
-  return {w.tr[k],
-          w.tg[k],
-          w.tb[k],
-          w.rays_left[k],
-          w.slot[k],
+PathRecord record_of(const PathLanes& path, std::size_t k) {
+  const std::uint64_t counter = path.counter[k];
+  return {path.throughput_r[k],
+          path.throughput_g[k],
+          path.throughput_b[k],
+          path.rays_left[k],
+          path.slot[k],
           static_cast<std::uint32_t>(counter),
           static_cast<std::uint32_t>(counter >> 32),
-          w.sky[k]};
+          path.sky[k]};
 }
-
 // The paths whose ray hit move to the front of the lanes, in order (ray, hit and record); the
 // others' records go to the misses' array. Each record is stored to both places and kept in one:
 // no branch. Returns the hits.
@@ -458,22 +497,24 @@ void light_misses(const Wavefront& w, const Sky& sky, std::size_t misses, Vec3* 
 // at a time, a lane took some 30 instructions); of the last eight, those up to hits. Returns
 // the paths kept.
 std::size_t compact(Wavefront& w, std::size_t hits) {
+  const RayLanes& ray = w.ray;
   std::size_t k = 0, kept = 0;
   for (; kTransposes && k < hits; k += 8) {
     Floats8 rays[8], records[8];
-    next_rays(w, k, rays);
-    path_records(w, k, records);
+    next_rays(ray, k, rays);
+    path_records(w.path, k, records);
     const std::size_t lanes = hits - k < 8 ? hits - k : 8;
     for (std::size_t i = 0; i < lanes; ++i) {
       store8(&w.rays[kept], rays[i]);
       store8(&w.paths[kept], records[i]);
-      kept += static_cast<std::size_t>(w.alive[k + i]);
+      kept += static_cast<std::size_t>(w.scatter.alive[k + i]);
     }
   }
   for (; k < hits; ++k) {
-    w.rays[kept] = Ray{{w.ox[k], w.oy[k], w.oz[k]}, {w.dx[k], w.dy[k], w.dz[k]}};
-    w.paths[kept] = record_of(w, k);
-    kept += static_cast<std::size_t>(w.alive[k]);
+    w.rays[kept] = Ray{{ray.origin_x[k], ray.origin_y[k], ray.origin_z[k]},
+                       {ray.dir_x[k], ray.dir_y[k], ray.dir_z[k]}};
+    w.paths[kept] = record_of(w.path, k);
+    kept += static_cast<std::size_t>(w.scatter.alive[k]);
   }
   return kept;
 }
@@ -481,12 +522,12 @@ std::size_t compact(Wavefront& w, std::size_t hits) {
 // The rejected lens points' next tries, one lane at a time: their draws go on past the points
 // start() drew (the path's fourth draw, or sixth with two points ahead).
 void redraw_lens(Wavefront& w, std::size_t begin) {
-  const std::size_t count = list_redraws(w, begin, w.live);
+  const std::size_t count = list_redraws(w, w.camera.redraw, begin, w.live);
   for (std::size_t j = 0; j < count; ++j) {
     const std::size_t k = w.listed[j];
-    const DiskPoint p = disk_point(w.counter[k]);
-    w.vx[k] = p.u, w.vy[k] = p.v;
-    w.counter[k] = p.counter;
+    const DiskPoint p = disk_point(w.path.counter[k]);
+    w.camera.lens_x[k] = p.u, w.camera.lens_y[k] = p.v;
+    w.path.counter[k] = p.counter;
   }
 }
 
@@ -501,31 +542,32 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
   // The path's random stream (PathRandom's constructor, its seed's mix given), the point in the
   // pixel and the first kPointsAhead points of the lens disk (as in draw()).
   for (std::size_t k = begin; k < live; ++k) {
-    const std::uint64_t counter =
-        PathRandom::mix(PathRandom::mix(seed_hash ^ w.key[k]) ^ (std::uint64_t{w.sample[k]} << 32));
-    w.px[k] = w.px[k] + uniform_at(counter + kStep);
-    w.py[k] = w.py[k] + uniform_at(counter + 2 * kStep);
+    const std::uint64_t counter = PathRandom::mix(PathRandom::mix(seed_hash ^ w.camera.pixel[k]) ^
+                                                  (std::uint64_t{w.camera.sample[k]} << 32));
+    w.camera.x[k] = w.camera.x[k] + uniform_at(counter + kStep);
+    w.camera.y[k] = w.camera.y[k] + uniform_at(counter + 2 * kStep);
     const float u1 = 2.0f * uniform_at(counter + 3 * kStep) - 1.0f;
     const float v1 = 2.0f * uniform_at(counter + 4 * kStep) - 1.0f;
     const float u2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 5 * kStep) - 1.0f : u1;
     const float v2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 6 * kStep) - 1.0f : v1;
     const std::int32_t first = u1 * u1 + v1 * v1 < 1.0f ? 1 : 0;
     const std::int32_t second = u2 * u2 + v2 * v2 < 1.0f ? 1 : 0;
-    w.vx[k] = first ? u1 : u2, w.vy[k] = first ? v1 : v2;
-    w.redraw[k] = (1 - first) & (1 - second) & uses_lens;
+    w.camera.lens_x[k] = first ? u1 : u2, w.camera.lens_y[k] = first ? v1 : v2;
+    w.camera.redraw[k] = (1 - first) & (1 - second) & uses_lens;
     // Past the second point, if drawn, where the first was rejected: a lane with every point
     // rejected goes on from its counter in redraw_lens.
-    w.counter[k] =
+    w.path.counter[k] =
         counter + (first | (1 - uses_lens) ? past : past + 2 * (kPointsAhead - 1) * kStep);
   }
   if (lens) redraw_lens(w, begin);
-  const Camera copy = camera;  // a local: no store to the lanes can change it
-  for (std::size_t k = begin; k < live; ++k) {
-    w.rays[k] = copy.ray(w.px[k], w.py[k], w.vx[k], w.vy[k]);  // the pinhole's without a lens
+  const Camera copy = camera;                   // a local: no store to the lanes can change it
+  for (std::size_t k = begin; k < live; ++k) {  // the pinhole's ray without a lens
+    w.rays[k] = copy.ray(w.camera.x[k], w.camera.y[k], w.camera.lens_x[k], w.camera.lens_y[k]);
   }
   for (std::size_t k = begin; k < live; ++k) {  // the ray again, not read back: vectorised
-    const Vec3 dir = copy.ray(w.px[k], w.py[k], w.vx[k], w.vy[k]).dir;
-    w.sky[k] = sky_blend(dir.x, dir.y, dir.z);
+    const Vec3 dir =
+        copy.ray(w.camera.x[k], w.camera.y[k], w.camera.lens_x[k], w.camera.lens_y[k]).dir;
+    w.path.sky[k] = sky_blend(dir.x, dir.y, dir.z);
   }
   // The new paths' records: eight at a time transposed, or one by one. All eight rows stored
   // where the array has them (the lanes past live are free): a count of rows made GCC copy them
@@ -534,23 +576,24 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
   std::size_t k = begin;
   for (; kTransposes && k + 8 <= kWavefront && k < live; k += 8) {
     Floats8 records[8];
-    path_records(w, k, records);
+    path_records(w.path, k, records);
     for (std::size_t i = 0; i < 8; ++i)
       store8(&w.paths[k + i], records[i]);
   }
   for (; k < live; ++k)
-    w.paths[k] = record_of(w, k);
+    w.paths[k] = record_of(w.path, k);
 }
 
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance) {
-  const std::size_t hits = partition(w, w.live);
-  light_misses(w, sky, w.live - hits, radiance);
+  // Each pass: the parts it reads -> those it writes (wavefront.hpp).
+  const std::size_t hits = partition(w, w.live);  // rays, hits, paths -> the same; missed
+  light_misses(w, sky, w.live - hits, radiance);  // missed -> the radiance entries
   const std::size_t lanes = padded(hits);
-  gather(w, table, lanes);
-  surfaces(w, lanes);
-  draw(w, hits, lanes);
-  scatter_all(w, lanes);
-  w.live = compact(w, hits);
+  gather(w, table, lanes);    // rays, hits, paths, the table -> ray, sphere, path (but sky)
+  surfaces(w, lanes);         // ray, sphere -> surface; scatter's facing, incoming, eta, cosine
+  draw(w, hits, lanes);       // sphere, path, scatter -> drawn, reflects, redraw; path's counter
+  scatter_all(w, lanes);      // sphere, surface, scatter, path -> next ray, path, alive
+  w.live = compact(w, hits);  // ray, path, alive -> rays, paths
 }
 
 }  // namespace sphray::render::SPHRAY_SHADE_ISA
