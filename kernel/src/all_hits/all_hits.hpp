@@ -60,11 +60,24 @@ struct AllHits {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return 0;
     const float tmax = s.tmax;  // the walk's bound: it never shrinks
-    const bool listed = !list.counts_only();
+    if (list.counts_only()) {
+      // A count reaches every leaf in (tmin, tmax) whatever the order: no children to sort.
+      TreeWalk<A>::template traverse<false>(
+          bvh, ray, tmax, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
+            add_batch<Skip::kAfterDisc>(s,
+                                        Lanes::template load_seen<kMasked>(bvh.spheres, first, s),
+                                        list, [&](unsigned lane) { return bvh.ids[first + lane]; });
+            return false;
+          });
+      return list.total();
+    }
+    // A list is kept nearest first: leaves in that order place most crossings of a long ray
+    // behind the kept ones, counted lane-parallel (add_batch). In any order they were slower
+    // (docs/history.md, "count_hits without sorting").
     TreeWalk<A>::traverse(bvh, ray, tmax, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
       // A leaf's ids lie apart from its spheres: asked for early, their cache line arrives
       // while the roots are computed instead of stalling the first crossing placed.
-      if (listed) __builtin_prefetch(bvh.ids + first);
+      __builtin_prefetch(bvh.ids + first);
       add_batch<Skip::kAfterDisc>(s, Lanes::template load_seen<kMasked>(bvh.spheres, first, s),
                                   list, [&](unsigned lane) { return bvh.ids[first + lane]; });
       return false;

@@ -4,6 +4,7 @@
 // Ordered<A>'s NaN rule: the slab is treated as unbounded, which is conservative.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -132,6 +133,17 @@ struct BoxTest {
     }
     top += static_cast<unsigned>(__builtin_popcount(bits));
     return stack[--top].ref;
+  }
+
+  // enter() for a walk that reaches every leaf within its bound whatever the order (a count of
+  // every crossing): the entered children in lane order, with no ranks to compute. Each stacked
+  // entry's tnear is -infinity, so that pop() never skips it.
+  SPHRAY_FORCE_INLINE static ChildRef enter_any(const Node& node, unsigned bits, StackEntry* stack,
+                                                std::size_t& top) {
+    const auto first = static_cast<unsigned>(__builtin_ctz(bits));
+    for (unsigned left = bits & (bits - 1); left != 0; left &= left - 1)
+      stack[top++] = {node.ref(static_cast<unsigned>(__builtin_ctz(left))), -INFINITY};
+    return node.ref(first);
   }
 };
 

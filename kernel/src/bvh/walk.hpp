@@ -27,10 +27,10 @@ struct TreeWalk {
   using NodeSetup = typename Box::NodeSetup;
 
   // One ray's way through the tree, a leaf at a time: descend() goes from the current entry
-  // down the nearest entered children to a leaf, or finds none; pop() takes the next entry off
-  // the stack, skipping those behind best_t. The single-ray queries walk one ray to its end;
-  // the stream can walk several in turns.
-  template <bool kAhead>
+  // down the nearest entered children to a leaf (any entered child, without kOrdered), or finds
+  // none; pop() takes the next entry off the stack, skipping those behind best_t. The
+  // single-ray queries walk one ray to its end; the stream can walk several in turns.
+  template <bool kAhead, bool kOrdered = true>
   struct Walk {
     NodeSetup s;
     std::size_t top;
@@ -50,7 +50,10 @@ struct TreeWalk {
         const unsigned bits = LaneReduce<A>::bits(
             Box::template enter_children<kAhead>(s, node, Floats(best_t), tnear));
         if (bits == 0) return false;
-        ref = Box::enter(node, bits, tnear, stack, top);
+        if constexpr (kOrdered)
+          ref = Box::enter(node, bits, tnear, stack, top);
+        else
+          ref = Box::enter_any(node, bits, stack, top);
       }
       first = ref.first(kWidth);
       return true;
@@ -80,8 +83,10 @@ struct TreeWalk {
   };
 
   // Visits the tree: for each leaf the ray may reach before best_t, calls leaf(first sphere),
-  // which returns whether to stop. Nodes are entered nearest child first.
-  template <class Leaf>
+  // which returns whether to stop. Nodes are entered nearest child first; with kOrdered false,
+  // in any order (for a walk that reaches every leaf within a bound that never shrinks, where
+  // the order changes nothing but the cost of sorting the children).
+  template <bool kOrdered = true, class Leaf>
   static void traverse(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf&& leaf) {
     if (bvh.node_count == 0) return;
     // A tree over at most kWidth spheres is one leaf, at slot 0: it is read directly, as brute
@@ -91,14 +96,14 @@ struct TreeWalk {
       return;
     }
     if (QueryPlan::ahead(ray))
-      walk<true>(bvh, ray, best_t, leaf);
+      walk<true, kOrdered>(bvh, ray, best_t, leaf);
     else
-      walk<false>(bvh, ray, best_t, leaf);
+      walk<false, kOrdered>(bvh, ray, best_t, leaf);
   }
 
-  template <bool kAhead, class Leaf>
+  template <bool kAhead, bool kOrdered, class Leaf>
   static void walk(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf& leaf) {
-    Walk<kAhead> w;
+    Walk<kAhead, kOrdered> w;
     w.start(ray);
     std::size_t first;
     for (bool more = w.first_leaf(bvh, best_t, first); more; more = w.next_leaf(bvh, best_t, first))
