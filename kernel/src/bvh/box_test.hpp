@@ -4,7 +4,6 @@
 // Ordered<A>'s NaN rule: the slab is treated as unbounded, which is conservative.
 #pragma once
 
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -135,14 +134,14 @@ struct BoxTest {
     return stack[--top].ref;
   }
 
-  // enter() for a walk that reaches every leaf within its bound whatever the order (a count of
-  // every crossing): the entered children in lane order, with no ranks to compute. Each stacked
-  // entry's tnear is -infinity, so that pop() never skips it.
+  // enter() for a walk that reaches every leaf within a bound that never shrinks, whatever the
+  // order (a count of every crossing): the entered children in lane order, with no ranks to
+  // compute. Only the refs are stacked: such a walk's pop() reads no tnear.
   SPHRAY_FORCE_INLINE static ChildRef enter_any(const Node& node, unsigned bits, StackEntry* stack,
                                                 std::size_t& top) {
     const auto first = static_cast<unsigned>(__builtin_ctz(bits));
     for (unsigned left = bits & (bits - 1); left != 0; left &= left - 1)
-      stack[top++] = {node.ref(static_cast<unsigned>(__builtin_ctz(left))), -INFINITY};
+      stack[top++].ref = node.ref(static_cast<unsigned>(__builtin_ctz(left)));
     return node.ref(first);
   }
 };

@@ -60,6 +60,11 @@ struct TreeWalk {
     }
 
     SPHRAY_FORCE_INLINE bool pop(float best_t) {
+      if constexpr (!kOrdered) {  // a bound that never shrinks: every entry is within it
+        if (top == 0) return false;
+        ref = stack[--top].ref;
+        return true;
+      }
       // Entries behind the best hit so far can only hold farther spheres.
       do {
         if (top == 0) return false;
