@@ -4,8 +4,8 @@
 //!   PKG_CONFIG_PATH=<prefix>/lib/pkgconfig cargo build --offline --release
 //!   target/release/sphray-normals image.ppm [WIDTH HEIGHT]
 //!
-//! The camera is the renderer's (render/src/frame/camera.cpp), operation for operation, so that every
-//! ray has the same bits; the image is a PPM P3 file as the renderer writes it.
+//! The camera is the renderer's (render/src/frame/camera.cpp), operation for operation, so that
+//! every ray has the same bits; the image is a PPM P3 file as the renderer writes it.
 mod sphray;
 
 use std::fs::File;
