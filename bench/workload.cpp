@@ -6,6 +6,7 @@
 #include <memory>
 #include <random>
 
+#include "bench/bench_rays.hpp"  // render/src/bench: the rays `sphray bench` traces
 #include "sphray/render/camera.hpp"
 #include "sphray/render/path_tracer.hpp"
 #include "sphray/render/scene.hpp"
@@ -53,15 +54,6 @@ std::vector<Ray> bounce_rays(const render::Scene& scene) {
   return render::record_path_rays(scene, options, 1, 3);
 }
 
-// count rays spread evenly over rays (the whole frame, not its top rows).
-std::vector<Ray> spread(const std::vector<Ray>& rays, std::size_t count) {
-  if (count >= rays.size()) return rays;
-  std::vector<Ray> out(count);
-  for (std::size_t i = 0; i < count; ++i)
-    out[i] = rays[i * rays.size() / count];
-  return out;
-}
-
 std::vector<Hit> reference_hits(SphereView view, const std::vector<Ray>& rays) {
   std::vector<Hit> hits(rays.size());
   for (std::size_t i = 0; i < rays.size(); ++i)
@@ -83,7 +75,7 @@ std::unique_ptr<Workload> make_workload(std::string_view scene, RayKind kind) {
     w->brute_rays = brute == kFullRays ? w->rays : camera_rays(preset.camera, image_side(brute));
   } else if (kind == RayKind::bounce) {
     w->rays = std::move(bounces);
-    w->brute_rays = spread(w->rays, brute);
+    w->brute_rays = render::bench::spread(w->rays, brute);
   } else {
     w->rays = random_rays(sphere_box(w->spheres), kFullRays, 2024, 0.0f);
     w->brute_rays.assign(w->rays.begin(), w->rays.begin() + static_cast<std::ptrdiff_t>(brute));

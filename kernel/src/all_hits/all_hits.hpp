@@ -60,15 +60,17 @@ struct AllHits {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return 0;
     const float tmax = s.tmax;  // the walk's bound: it never shrinks
+    auto add = [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
+      add_batch<Skip::kAfterDisc>(s, Lanes::template load_seen<kMasked>(bvh.spheres, first, s),
+                                  list, [&](unsigned lane) { return bvh.ids[first + lane]; });
+    };
     if (list.counts_only()) {
       // A count reaches every leaf in (tmin, tmax) whatever the order: no children to sort.
-      TreeWalk<A>::template traverse<false>(
-          bvh, ray, tmax, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
-            add_batch<Skip::kAfterDisc>(s,
-                                        Lanes::template load_seen<kMasked>(bvh.spheres, first, s),
-                                        list, [&](unsigned lane) { return bvh.ids[first + lane]; });
-            return false;
-          });
+      TreeWalk<A>::template traverse<false>(bvh, ray, tmax,
+                                            [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
+                                              add(first);
+                                              return false;
+                                            });
       return list.total();
     }
     // A list is kept nearest first: leaves in that order place most crossings of a long ray
@@ -78,8 +80,7 @@ struct AllHits {
       // A leaf's ids lie apart from its spheres: asked for early, their cache line arrives
       // while the roots are computed instead of stalling the first crossing placed.
       __builtin_prefetch(bvh.ids + first);
-      add_batch<Skip::kAfterDisc>(s, Lanes::template load_seen<kMasked>(bvh.spheres, first, s),
-                                  list, [&](unsigned lane) { return bvh.ids[first + lane]; });
+      add(first);
       return false;
     });
     return list.total();

@@ -1,17 +1,16 @@
 // sphray_isa_supported, sphray_scene_create, sphray_scene_isa, sphray_scene_refit,
 // sphray_scene_set_masks, sphray_scene_size, sphray_scene_release.
-#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <memory>
 #include <optional>
-#include <span>
 
 #include "c_api/checks.hpp"
 #include "c_api/convert.hpp"
 #include "c_api/last_error.hpp"
 #include "c_api/scene_handle.hpp"
 #include "c_api/sphere_arrays.hpp"
+#include "dispatch/entry_table.hpp"
 
 namespace sphray::c_api {
 namespace {
@@ -26,9 +25,9 @@ struct SceneOptions {
   std::optional<Isa> isa;  // nothing: the process's choice
 };
 
+// This build has the instruction set's kernels and this machine runs them.
 bool runs_here(Isa isa) {
-  const std::span<const Isa> isas = supported_isas();
-  return std::find(isas.begin(), isas.end(), isa) != isas.end();
+  return detail::find_entries(isa) != nullptr;
 }
 
 // What create's args say (NULL: the defaults), or the failure.

@@ -18,15 +18,6 @@ std::vector<Ray> camera_rays(const Scene& scene) {
   return rays;
 }
 
-// count rays spread evenly over rays (the whole image, not its top rows).
-std::vector<Ray> spread(const std::vector<Ray>& rays, std::size_t count) {
-  if (count >= rays.size()) return rays;
-  std::vector<Ray> out(count);
-  for (std::size_t i = 0; i < count; ++i)
-    out[i] = rays[i * rays.size() / count];
-  return out;
-}
-
 std::size_t brute_ray_count(std::size_t rays, std::size_t spheres) {
   const std::size_t budget = kBruteTestBudget / std::max<std::size_t>(1, spheres);
   return std::min(rays, std::max(kMinBruteRays, budget));
@@ -36,6 +27,14 @@ std::size_t brute_ray_count(std::size_t rays, std::size_t spheres) {
 
 const char* ray_kind_name(RayKind kind) {
   return kind == RayKind::camera ? "camera" : "random";
+}
+
+std::vector<Ray> spread(const std::vector<Ray>& rays, std::size_t count) {
+  if (count >= rays.size()) return rays;
+  std::vector<Ray> out(count);
+  for (std::size_t i = 0; i < count; ++i)
+    out[i] = rays[i * rays.size() / count];
+  return out;
 }
 
 RaySet make_ray_set(const Scene& scene, RayKind kind) {

@@ -40,4 +40,8 @@ const char* ray_kind_name(RayKind kind);
 
 RaySet make_ray_set(const Scene& scene, RayKind kind);
 
+/// count rays spread evenly over rays (over the whole image, not its top rows); all of them if
+/// there are no more.
+std::vector<Ray> spread(const std::vector<Ray>& rays, std::size_t count);
+
 }  // namespace sphray::render::bench
