@@ -62,6 +62,19 @@ SPHRAY_API Ray spawn(const Surface& surface, Vec3 dir);
 /// OffsetRayOrigin).
 SPHRAY_API Vec3 offset_origin(const Surface& surface, Vec3 dir);
 
+/// surface() for a stream: surface i of out is surface(spheres, rays.at(i), hits.at(i)), bit for
+/// bit, on the instruction set active_isa() names. The hits are only read. Throws
+/// std::length_error unless hits.count and out.count equal rays.count, std::invalid_argument if
+/// an array but tmin, tmax and mask is null while count > 0.
+SPHRAY_API void surfaces(SphereView spheres, const RayArrays& rays, const HitArrays& hits,
+                         const SurfaceArrays& out);
+
+/// offset_origin() for a stream: origin i is offset_origin(surfaces.at(i), dirs i), bit for bit.
+/// Throws std::length_error unless dirs.count and origins.count equal surfaces.count,
+/// std::invalid_argument if an array is null while count > 0.
+SPHRAY_API void offset_origins(const SurfaceArrays& surfaces, const VectorArrays& dirs,
+                               const VectorOutArrays& origins);
+
 /// The reference implementation: the same contract in plain C++, one sphere at a time.
 namespace scalar {
 SPHRAY_API Hit intersect(SphereView spheres, const Ray& ray);

@@ -49,4 +49,51 @@ struct HitArrays {
   }
 };
 
+/// count surfaces, surface i being {point (px[i], py[i], pz[i]), normal (nx[i], ny[i], nz[i]),
+/// front_face[i], error (ex[i], ey[i], ez[i])}: what surfaces() writes (query.hpp) and
+/// offset_origins() reads. Every array holds count values.
+struct SurfaceArrays {
+  float* px = nullptr;
+  float* py = nullptr;
+  float* pz = nullptr;
+  float* nx = nullptr;
+  float* ny = nullptr;
+  float* nz = nullptr;
+  bool* front_face = nullptr;
+  float* ex = nullptr;
+  float* ey = nullptr;
+  float* ez = nullptr;
+  std::size_t count = 0;
+
+  constexpr Surface at(std::size_t i) const {
+    return {{px[i], py[i], pz[i]}, {nx[i], ny[i], nz[i]}, front_face[i], {ex[i], ey[i], ez[i]}};
+  }
+  constexpr void set(std::size_t i, const Surface& s) const {
+    px[i] = s.point.x, py[i] = s.point.y, pz[i] = s.point.z;
+    nx[i] = s.normal.x, ny[i] = s.normal.y, nz[i] = s.normal.z;
+    front_face[i] = s.front_face;
+    ex[i] = s.error.x, ey[i] = s.error.y, ez[i] = s.error.z;
+  }
+};
+
+/// count directions or points, vector i being (x[i], y[i], z[i]).
+struct VectorArrays {
+  const float* x = nullptr;
+  const float* y = nullptr;
+  const float* z = nullptr;
+  std::size_t count = 0;
+
+  constexpr Vec3 at(std::size_t i) const { return {x[i], y[i], z[i]}; }
+};
+
+/// The same, written to.
+struct VectorOutArrays {
+  float* x = nullptr;
+  float* y = nullptr;
+  float* z = nullptr;
+  std::size_t count = 0;
+
+  constexpr void set(std::size_t i, Vec3 v) const { x[i] = v.x, y[i] = v.y, z[i] = v.z; }
+};
+
 }  // namespace sphray

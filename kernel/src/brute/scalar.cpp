@@ -169,6 +169,18 @@ void scalar_bvh_arrays(const BvhData& bvh, const RayArrays& rays, const HitArray
   for (std::size_t i = 0; i < rays.count; ++i)
     hits.set(i, scalar_bvh_intersect(bvh, rays.at(i)));
 }
+
+void scalar_surfaces(SphereView spheres, const RayArrays& rays, const HitArrays& hits,
+                     const SurfaceArrays& out) {
+  for (std::size_t i = 0; i < rays.count; ++i)
+    out.set(i, surface(spheres, rays.at(i), hits.at(i)));
+}
+
+void scalar_offset_origins(const SurfaceArrays& surfaces, const VectorArrays& dirs,
+                           const VectorOutArrays& origins) {
+  for (std::size_t i = 0; i < surfaces.count; ++i)
+    origins.set(i, offset_origin(surfaces.at(i), dirs.at(i)));
+}
 }  // namespace
 
 // One lane: the rays-across streams are the streams.
@@ -194,5 +206,7 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              &scalar_overlapping,
                                              &scalar_bvh_nearest,
                                              &scalar_bvh_overlapping,
-                                             &scalar_bvh_overlapping_pairs};
+                                             &scalar_bvh_overlapping_pairs,
+                                             &scalar_surfaces,
+                                             &scalar_offset_origins};
 }  // namespace sphray::detail

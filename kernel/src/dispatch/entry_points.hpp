@@ -17,6 +17,7 @@
 #include "simd/isa_namespace.hpp"
 #include "sphray/query.hpp"
 #include "storage/ray_columns.hpp"
+#include "surface/surface_lanes.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
@@ -174,7 +175,9 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::overlapping,
           &E::bvh_nearest,
           &E::bvh_overlapping,
-          &E::bvh_overlapping_pairs};
+          &E::bvh_overlapping_pairs,
+          &SurfaceLanes<A>::surfaces,
+          &SurfaceLanes<A>::offset_origins};
 }
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

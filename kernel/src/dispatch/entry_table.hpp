@@ -67,6 +67,11 @@ struct EntryTable {
   /// Part `part` of `parts` of the tree's overlapping pairs (overlapping_pairs()), appended.
   void (*bvh_overlapping_pairs)(const BvhData& bvh, std::size_t part, std::size_t parts,
                                 std::vector<IdPair>& out);
+  /// surfaces() and offset_origins() (query.hpp), their arguments checked.
+  void (*surfaces)(SphereView spheres, const RayArrays& rays, const HitArrays& hits,
+                   const SurfaceArrays& out);
+  void (*offset_origins)(const SurfaceArrays& surfaces, const VectorArrays& dirs,
+                         const VectorOutArrays& origins);
 };
 
 /// The kernel for isa, or nullptr if this build lacks it or this machine cannot run it.

@@ -4,7 +4,10 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 
+#include "dispatch/entry_table.hpp"
+#include "sphray/isa.hpp"
 #include "sphray/query.hpp"
 
 namespace sphray {
@@ -107,6 +110,44 @@ Vec3 offset_origin(const Surface& surface, Vec3 dir) {
 
 Ray spawn(const Surface& surface, Vec3 dir) {
   return {offset_origin(surface, dir), dir, 0.0f, INFINITY};
+}
+
+namespace {
+void require(bool holds, const char* what) {
+  if (!holds) throw std::invalid_argument(what);
+}
+
+bool complete(const SurfaceArrays& s) {
+  return s.px != nullptr && s.py != nullptr && s.pz != nullptr && s.nx != nullptr &&
+         s.ny != nullptr && s.nz != nullptr && s.front_face != nullptr && s.ex != nullptr &&
+         s.ey != nullptr && s.ez != nullptr;
+}
+}  // namespace
+
+void surfaces(SphereView spheres, const RayArrays& rays, const HitArrays& hits,
+              const SurfaceArrays& out) {
+  if (hits.count != rays.count || out.count != rays.count)
+    throw std::length_error("sphray::surfaces: rays, hits and surfaces differ in count");
+  if (rays.count == 0) return;
+  require(rays.ox != nullptr && rays.oy != nullptr && rays.oz != nullptr && rays.dx != nullptr &&
+              rays.dy != nullptr && rays.dz != nullptr,
+          "sphray::surfaces: a ray origin or direction array is null");
+  require(hits.t != nullptr && hits.id != nullptr, "sphray::surfaces: a hit array is null");
+  require(complete(out), "sphray::surfaces: a surface array is null");
+  detail::active_entries().surfaces(spheres, rays, hits, out);
+}
+
+void offset_origins(const SurfaceArrays& surfaces, const VectorArrays& dirs,
+                    const VectorOutArrays& origins) {
+  if (dirs.count != surfaces.count || origins.count != surfaces.count)
+    throw std::length_error("sphray::offset_origins: surfaces, dirs and origins differ in count");
+  if (surfaces.count == 0) return;
+  require(complete(surfaces), "sphray::offset_origins: a surface array is null");
+  require(dirs.x != nullptr && dirs.y != nullptr && dirs.z != nullptr,
+          "sphray::offset_origins: a direction array is null");
+  require(origins.x != nullptr && origins.y != nullptr && origins.z != nullptr,
+          "sphray::offset_origins: an origin array is null");
+  detail::active_entries().offset_origins(surfaces, dirs, origins);
 }
 
 }  // namespace sphray

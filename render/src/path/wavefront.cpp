@@ -47,18 +47,13 @@ bool runs_on(Isa clone, Isa active) {
 
 }  // namespace
 
-ShadingTable::ShadingTable(const Scene& scene) {
-  const SphereView view = scene.spheres.view();
+ShadingTable::ShadingTable(const Scene& scene) : spheres_(scene.spheres.view()) {
   const auto lambertian = static_cast<std::int32_t>(MaterialKind::lambertian);
-  rows_.resize(view.count + 1, SphereShading{0, 0, 0, 1, 1, 1, 1, 0, 1, lambertian});
-  for (std::uint32_t id = 0; id < view.count; ++id) {
+  rows_.resize(spheres_.count + 1, SphereShading{1, 1, 1, 0, 1, lambertian});
+  for (std::uint32_t id = 0; id < spheres_.count; ++id) {
     const Material m = material_of(scene, id);
     const bool glass = m.kind == MaterialKind::dielectric;
-    rows_[id] = {view.cx[id],
-                 view.cy[id],
-                 view.cz[id],
-                 view.radius[id],
-                 glass ? 1.0f : m.albedo.x,
+    rows_[id] = {glass ? 1.0f : m.albedo.x,
                  glass ? 1.0f : m.albedo.y,
                  glass ? 1.0f : m.albedo.z,
                  m.fuzz,

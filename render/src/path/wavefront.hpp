@@ -1,6 +1,7 @@
 // The path tracer's wavefront: a tile's live paths as one array per quantity, and their shading
-// (sphray::surface, scatter and sphray::spawn of material.hpp and sphray/query.hpp, for a whole
-// wavefront) in passes over those arrays. The float passes are plain loops without calls or
+// in passes over those arrays. The surfaces and the next rays' origins come from the kernel's
+// array calls (sphray::surfaces and sphray::offset_origins); the materials (scatter of
+// material.hpp) and the random draws are the renderer's passes: plain loops without calls or
 // branches, which GCC vectorises; the build compiles them once per instruction set and the
 // tracer runs the widest copy (clone_for). The random draws come from each path's counter: the
 // camera's and each bounce's first ones for all lanes in a loop, the rest (after a rejected
@@ -23,21 +24,23 @@ namespace sphray::render {
 
 inline constexpr std::size_t kWavefront = static_cast<std::size_t>(kTileSize) * kTileSize;
 
-/// What shading reads of one sphere, side by side in one cache line: the gather loads a row as
-/// two vectors of 8 fields and transposes 8 rows at a time (wavefront_passes.cpp).
-struct alignas(64) SphereShading {
-  float cx, cy, cz, radius;
+/// What shading reads of one sphere's material, side by side in half a cache line: the gather
+/// loads a row as one vector of 8 fields and transposes 8 rows at a time (wavefront_passes.cpp).
+/// Its centre and radius the kernel's surfaces() reads from the spheres themselves.
+struct alignas(32) SphereShading {
   float ar, ag, ab;  // the attenuation: the albedo, 1 for a dielectric (as scatter() returns)
   float fuzz, ior;
   std::int32_t kind;  // MaterialKind
-  std::int32_t unused[6] = {};
+  std::int32_t unused[2] = {};
 };
-static_assert(sizeof(SphereShading) == 64);
+static_assert(sizeof(SphereShading) == 32);
 
-/// SphereShading by sphere id, and one placeholder row past the spheres that misses read.
+/// SphereShading by sphere id, and one placeholder row past the spheres that misses read; and
+/// the spheres, for the kernel's surfaces().
 class ShadingTable {
  public:
   explicit ShadingTable(const Scene& scene);
+  SphereView spheres() const { return spheres_; }
   /// The row of sphere id: the placeholder for a miss.
   std::size_t index(std::uint32_t id) const {
     return id < rows_.size() - 1 ? id : rows_.size() - 1;
@@ -45,6 +48,7 @@ class ShadingTable {
   const SphereShading* rows() const { return rows_.data(); }
 
  private:
+  SphereView spheres_;
   std::vector<SphereShading> rows_;
 };
 
@@ -54,7 +58,7 @@ template <class T>
 using Lanes = std::array<T, kWavefront + 64 / sizeof(T)>;
 // Whole cache lines: each array of a part starts one, as the part does (alignas(64)).
 static_assert(sizeof(Lanes<float>) % 64 == 0 && sizeof(Lanes<std::uint64_t>) % 64 == 0 &&
-              sizeof(Lanes<std::uint16_t>) % 64 == 0);
+              sizeof(Lanes<std::uint16_t>) % 64 == 0 && sizeof(Lanes<bool>) % 64 == 0);
 
 /// A path's state between bounces, in 32 bytes: a path moves to another lane with one store of
 /// its record, and the passes unpack eight records at a time into arrays by a transpose.
@@ -72,8 +76,8 @@ static_assert(sizeof(PathRecord) == 32);
 // One bounce's lanes, and a start() call's: the parts of a Wavefront that its passes
 // (wavefront_passes.cpp) compute in, one array per quantity, lane k of each one path's. shade()
 // runs its passes in this order: partition (the misses out), light_misses, gather (the hits'
-// rays, spheres and records unpacked), surfaces, draw, scatter_all and compact (the next rays
-// and records packed). Each part says which passes write it and which read it. No part holds
+// rays, spheres and records unpacked), surfaces, draw, scatter_all, spawn and compact (the next
+// rays and records packed). Each part says which passes write it and which read it. No part holds
 // anything from one shade() or start() call to the next: the records and rays do.
 
 /// A path's state, unpacked from its record: what goes with the path from bounce to bounce.
@@ -90,32 +94,34 @@ struct alignas(64) PathLanes {
   Lanes<float> sky;               // the next ray's blend of Sky::radiance (PathRecord::sky)
 };
 
-/// The path's ray, then its next one. gather writes the ray from the kernel's rays and t from
-/// its hits; surfaces reads them; scatter_all overwrites origin and direction with the next
-/// ray's (spawn()'s), which compact packs into the kernel's rays.
+/// The path's ray and its hit, then its next ray. gather writes the ray from the kernel's rays,
+/// t and id from its hits; surfaces reads them; scatter_all overwrites the direction with the
+/// next ray's, and spawn the origin (spawn()'s), which compact packs into the kernel's rays.
 struct alignas(64) RayLanes {
   Lanes<float> origin_x, origin_y, origin_z;
   Lanes<float> dir_x, dir_y, dir_z;
-  Lanes<float> t;  // the hit's distance along the ray
+  Lanes<float> t;           // the hit's distance along the ray
+  Lanes<std::uint32_t> id;  // the hit sphere
 };
 
 /// The hit sphere's shading row (SphereShading), by lane. gather writes it: row from the hits,
-/// the rest from the ShadingTable's rows. surfaces reads centre, radius and ior; draw kind and
-/// fuzz; scatter_all kind, fuzz and attenuation.
+/// the rest from the ShadingTable's rows. surfaces reads ior; draw kind and fuzz; scatter_all
+/// kind, fuzz and attenuation.
 struct alignas(64) SphereLanes {
-  Lanes<float> center_x, center_y, center_z, radius;
   Lanes<float> attenuation_r, attenuation_g, attenuation_b;  // SphereShading's ar, ag, ab
   Lanes<float> fuzz, ior;
   Lanes<std::int32_t> kind;  // MaterialKind
   Lanes<std::int32_t> row;   // the ShadingTable's row: ShadingTable::index(hit.id)
 };
 
-/// What sphray::surface() gives for the hit, but front_face (in ScatterLanes' facing and eta):
-/// surfaces writes it, scatter_all reads it to offset the next ray's origin (spawn()'s).
+/// What sphray::surface() gives for the hit: surfaces writes it (the kernel's surfaces()) and
+/// reads it for ScatterLanes' facing and eta; spawn reads it to offset the next ray's origin
+/// (the kernel's offset_origins()).
 struct alignas(64) SurfaceLanes {
   Lanes<float> point_x, point_y, point_z;
   Lanes<float> normal_x, normal_y, normal_z;  // outward
-  Lanes<float> error_x, error_y, error_z;     // the point's error bound
+  Lanes<bool> front_face;
+  Lanes<float> error_x, error_y, error_z;  // the point's error bound
 };
 
 /// scatter()'s inputs and outcome. surfaces writes the facing normal, the incoming direction,

@@ -20,32 +20,11 @@ constexpr auto kLambertian = static_cast<std::int32_t>(MaterialKind::lambertian)
 constexpr auto kMetal = static_cast<std::int32_t>(MaterialKind::metal);
 constexpr auto kDielectric = static_cast<std::int32_t>(MaterialKind::dielectric);
 
-bool finite(float x) {
-  return std::fabs(x) <= std::numeric_limits<float>::max();
-}
-
-// surface()'s error bound: gamma(n) = n u / (1 - n u), u = 2^-24 (kernel/src/surface/surface.cpp).
-constexpr float gamma(int n) {
-  return static_cast<float>(n) * 0x1p-24f / (1.0f - static_cast<float>(n) * 0x1p-24f);
-}
-constexpr float kGamma10 = gamma(10), kGamma2 = gamma(2);
-
 // Sky::radiance's blend for a ray's direction, 0.5 (normalize(dir).y + 1): computed with the ray,
 // in a vector pass, and kept in its path's record, it is all a miss needs besides the throughput.
 float sky_blend(float dx, float dy, float dz) {
   const float length = std::sqrt(dx * dx + dy * dy + dz * dz);
   return 0.5f * (dy / length + 1.0f);
-}
-
-// spawn()'s step of x to the next float in the direction of sign, as selects.
-float away(float x, float sign) {
-  const auto bits = std::bit_cast<std::uint32_t>(x);
-  const bool grows = (x > 0.0f) == (sign > 0.0f);
-  const bool infinite = std::fabs(x) == std::numeric_limits<float>::infinity();
-  const std::uint32_t stepped = grows ? (infinite ? bits : bits + 1u) : bits - 1u;
-  const std::uint32_t tiny = (std::bit_cast<std::uint32_t>(sign) & 0x80000000u) | 1u;
-  const float moved = std::bit_cast<float>(x == 0.0f ? tiny : stepped);
-  return sign == 0.0f || x != x ? x : moved;
 }
 
 // The lanes a float pass runs over: the live ones and those up to the next multiple of 16, the
@@ -114,26 +93,17 @@ void gather_rows(Wavefront& w, const SphereShading* __restrict rows, std::size_t
   SphereLanes& sphere = w.sphere;
   std::size_t k = 0;
   for (; kTransposes && k + 8 <= lanes; k += 8) {
-    Floats8 lo[8], hi[8];
-    for (int i = 0; i < 8; ++i) {
-      load8(lo[i], &rows[sphere.row[k + i]].cx);
-      load8(hi[i], &rows[sphere.row[k + i]].ior);
-    }
-    transpose8(lo);
-    transpose8(hi);
-    store8(&sphere.center_x[k], lo[0]);
-    store8(&sphere.center_y[k], lo[1]);
-    store8(&sphere.center_z[k], lo[2]);
-    store8(&sphere.radius[k], lo[3]);
-    store8(&sphere.attenuation_r[k], lo[4]);
-    store8(&sphere.attenuation_g[k], lo[5]);
-    store8(&sphere.attenuation_b[k], lo[6]);
-    store8(&sphere.fuzz[k], lo[7]), store8(&sphere.ior[k], hi[0]), store8(&sphere.kind[k], hi[1]);
+    Floats8 v[8];
+    for (int i = 0; i < 8; ++i)
+      load8(v[i], &rows[sphere.row[k + i]]);
+    transpose8(v);
+    store8(&sphere.attenuation_r[k], v[0]);
+    store8(&sphere.attenuation_g[k], v[1]);
+    store8(&sphere.attenuation_b[k], v[2]);
+    store8(&sphere.fuzz[k], v[3]), store8(&sphere.ior[k], v[4]), store8(&sphere.kind[k], v[5]);
   }
   for (; k < lanes; ++k) {
     const SphereShading& s = rows[sphere.row[k]];
-    sphere.center_x[k] = s.cx, sphere.center_y[k] = s.cy, sphere.center_z[k] = s.cz;
-    sphere.radius[k] = s.radius;
     sphere.attenuation_r[k] = s.ar, sphere.attenuation_g[k] = s.ag, sphere.attenuation_b[k] = s.ab;
     sphere.fuzz[k] = s.fuzz, sphere.ior[k] = s.ior, sphere.kind[k] = s.kind;
   }
@@ -191,55 +161,58 @@ void gather(Wavefront& w, const ShadingTable& table, std::size_t lanes) {
   }
   for (k = 0; k < lanes; ++k) {
     ray.t[k] = w.hits[k].t;
+    ray.id[k] = w.hits[k].id;
     w.sphere.row[k] = static_cast<std::int32_t>(table.index(w.hits[k].id));
   }
   gather_rows(w, table.rows(), lanes);
   unpack_records(w, lanes);
 }
 
-// sphray::surface() for every lane, the unit incoming direction and the normal against it.
-// The normal and point in double, the front face from the ray's origin (tmin is 0 here), and
-// the error bound, as surface() computes them.
-void surfaces(Wavefront& w, std::size_t lanes) {
-  const RayLanes& ray = w.ray;
+// The surface lanes as the kernel's arrays.
+SurfaceArrays surface_arrays(SurfaceLanes& s, std::size_t lanes) {
+  return {s.point_x.data(),
+          s.point_y.data(),
+          s.point_z.data(),
+          s.normal_x.data(),
+          s.normal_y.data(),
+          s.normal_z.data(),
+          s.front_face.data(),
+          s.error_x.data(),
+          s.error_y.data(),
+          s.error_z.data(),
+          lanes};
+}
+
+// sphray::surface() for every lane (the kernel's surfaces()), then the unit incoming direction
+// and the normal against it.
+void surfaces(Wavefront& w, const SphereView spheres, std::size_t lanes) {
+  RayLanes& ray = w.ray;  // only read: HitArrays' pointers are mutable
+  const SurfaceLanes& surface = w.surface;
+  const RayArrays rays{ray.origin_x.data(),
+                       ray.origin_y.data(),
+                       ray.origin_z.data(),
+                       ray.dir_x.data(),
+                       ray.dir_y.data(),
+                       ray.dir_z.data(),
+                       nullptr,
+                       nullptr,
+                       nullptr,
+                       lanes};  // tmin 0, as the kernel's rays have it
+  const HitArrays hits{ray.t.data(), ray.id.data(), lanes};
+  sphray::surfaces(spheres, rays, hits, surface_arrays(w.surface, lanes));
   const SphereLanes& sphere = w.sphere;
-  SurfaceLanes& surface = w.surface;
   ScatterLanes& scatter = w.scatter;
+  // The front faces as bytes (a bool's object representation): GCC vectorises no load of bool.
+  const auto* front_faces = reinterpret_cast<const unsigned char*>(surface.front_face.data());
   for (std::size_t k = 0; k < lanes; ++k) {
-    const float px = ray.origin_x[k] + ray.t[k] * ray.dir_x[k];
-    const float py = ray.origin_y[k] + ray.t[k] * ray.dir_y[k];
-    const float pz = ray.origin_z[k] + ray.t[k] * ray.dir_z[k];
-    const float fx = px - sphere.center_x[k], fy = py - sphere.center_y[k],
-                fz = pz - sphere.center_z[k];
-    const bool has_direction =
-        finite(fx) && finite(fy) && finite(fz) && (fx != 0.0f || fy != 0.0f || fz != 0.0f);
-    const double tx = has_direction ? fx : -ray.dir_x[k];
-    const double ty = has_direction ? fy : -ray.dir_y[k];
-    const double tz = has_direction ? fz : -ray.dir_z[k];
-    const double tlength = std::sqrt(tx * tx + ty * ty + tz * tz);
-    const double dnx = tx / tlength, dny = ty / tlength, dnz = tz / tlength;
-    const float nx = static_cast<float>(dnx), ny = static_cast<float>(dny),
-                nz = static_cast<float>(dnz);
-    surface.normal_x[k] = nx, surface.normal_y[k] = ny, surface.normal_z[k] = nz;
-    const float r = sphere.radius[k];
-    const float sx = static_cast<float>(sphere.center_x[k] + r * dnx);
-    const float sy = static_cast<float>(sphere.center_y[k] + r * dny);
-    const float sz = static_cast<float>(sphere.center_z[k] + r * dnz);
-    surface.point_x[k] = sx, surface.point_y[k] = sy, surface.point_z[k] = sz;
-    const float radial = kGamma10 * r;
-    surface.error_x[k] = radial * std::fabs(nx) + kGamma2 * std::fabs(sx);
-    surface.error_y[k] = radial * std::fabs(ny) + kGamma2 * std::fabs(sy);
-    surface.error_z[k] = radial * std::fabs(nz) + kGamma2 * std::fabs(sz);
-    const double gx = static_cast<double>(ray.origin_x[k]) - sphere.center_x[k];
-    const double gy = static_cast<double>(ray.origin_y[k]) - sphere.center_y[k];
-    const double gz = static_cast<double>(ray.origin_z[k]) - sphere.center_z[k];
-    const bool front = gx * gx + gy * gy + gz * gz > static_cast<double>(r) * r;
     const float dx = ray.dir_x[k], dy = ray.dir_y[k], dz = ray.dir_z[k];
     const float length = std::sqrt(dx * dx + dy * dy + dz * dz);
     scatter.incoming_x[k] = dx / length, scatter.incoming_y[k] = dy / length;
     scatter.incoming_z[k] = dz / length;
     // The normal against the incoming ray (as scatter() turns it), and a dielectric's eta.
     // Every load and store unconditional: a conditional one keeps GCC from vectorising.
+    const bool front = front_faces[k] != 0;
+    const float nx = surface.normal_x[k], ny = surface.normal_y[k], nz = surface.normal_z[k];
     const float ox = front ? nx : -nx, oy = front ? ny : -ny, oz = front ? nz : -nz;
     scatter.facing_x[k] = ox, scatter.facing_y[k] = oy, scatter.facing_z[k] = oz;
     const float ior = sphere.ior[k], inverse = 1.0f / ior;
@@ -345,25 +318,17 @@ void draw(Wavefront& w, std::size_t hits, std::size_t lanes) {
   }
 }
 
-// offset_origin(): the surface point moved past its error box along the outward normal, to the
-// side the new direction leaves by, each coordinate then stepped away from the point: the next
-// ray's origin.
-void offset_origin(Wavefront& w, std::size_t k, float dx, float dy, float dz) {
-  const SurfaceLanes& surface = w.surface;
-  const float nx = surface.normal_x[k], ny = surface.normal_y[k], nz = surface.normal_z[k];
-  const float d = std::fabs(nx) * surface.error_x[k] + std::fabs(ny) * surface.error_y[k] +
-                  std::fabs(nz) * surface.error_z[k];
-  const bool inward = dx * nx + dy * ny + dz * nz < 0.0f;
-  const float fx = inward ? -(d * nx) : d * nx;
-  const float fy = inward ? -(d * ny) : d * ny;
-  const float fz = inward ? -(d * nz) : d * nz;
-  w.ray.origin_x[k] = away(surface.point_x[k] + fx, fx);
-  w.ray.origin_y[k] = away(surface.point_y[k] + fy, fy);
-  w.ray.origin_z[k] = away(surface.point_z[k] + fz, fz);
+// spawn()'s origin of every lane's next ray: the kernel's offset_origins() from the surface
+// along the next direction.
+void spawn(Wavefront& w, std::size_t lanes) {
+  RayLanes& ray = w.ray;
+  sphray::offset_origins(surface_arrays(w.surface, lanes),
+                         {ray.dir_x.data(), ray.dir_y.data(), ray.dir_z.data(), lanes},
+                         {ray.origin_x.data(), ray.origin_y.data(), ray.origin_z.data(), lanes});
 }
 
 // scatter()'s direction and attenuation for every lane, the three materials computed and one
-// selected, and spawn()'s origin of the next ray.
+// selected.
 void scatter_all(Wavefront& w, std::size_t lanes) {
   const SphereLanes& sphere = w.sphere;
   PathLanes& path = w.path;
@@ -407,7 +372,6 @@ void scatter_all(Wavefront& w, std::size_t lanes) {
     const float dz = kind == kLambertian ? (near_zero ? nz : lz) : (kind == kMetal ? mz : gz);
     ray.dir_x[k] = dx, ray.dir_y[k] = dy, ray.dir_z[k] = dz;
     path.sky[k] = sky_blend(dx, dy, dz);
-    offset_origin(w, k, dx, dy, dz);
     // A path that traced its last ray brings no light, as the book's max_depth.
     const std::int32_t more = path.rays_left[k] > 1 ? 1 : 0;
     scatter.alive[k] = (1 - absorbed) & more;
@@ -589,10 +553,12 @@ void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radian
   const std::size_t hits = partition(w, w.live);  // rays, hits, paths -> the same; missed
   light_misses(w, sky, w.live - hits, radiance);  // missed -> the radiance entries
   const std::size_t lanes = padded(hits);
-  gather(w, table, lanes);    // rays, hits, paths, the table -> ray, sphere, path (but sky)
-  surfaces(w, lanes);         // ray, sphere -> surface; scatter's facing, incoming, eta, cosine
+  gather(w, table, lanes);  // rays, hits, paths, the table -> ray, sphere, path (but sky)
+  surfaces(w, table.spheres(), lanes);  // ray, sphere -> surface; scatter's facing, incoming,
+                                        // eta, cosine
   draw(w, hits, lanes);       // sphere, path, scatter -> drawn, reflects, redraw; path's counter
-  scatter_all(w, lanes);      // sphere, surface, scatter, path -> next ray, path, alive
+  scatter_all(w, lanes);      // sphere, scatter, path -> next ray's direction, path, alive
+  spawn(w, lanes);            // surface, next ray's direction -> its origin
   w.live = compact(w, hits);  // ray, path, alive -> rays, paths
 }
 
