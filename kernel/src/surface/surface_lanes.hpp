@@ -139,8 +139,8 @@ struct SurfaceLanes {
     const auto z = Wide::widen(xsimd::select(has_direction, fz, -dz));
     const auto cx = Wide::widen(s.cx), cy = Wide::widen(s.cy), cz = Wide::widen(s.cz);
     const auto r = Wide::widen(s.radius);
-    Normal low = normal(x.low, y.low, z.low, cx.low, cy.low, cz.low, r.low);
-    Normal high = normal(x.high, y.high, z.high, cx.high, cy.high, cz.high, r.high);
+    const Normal low = normal(x.low, y.low, z.low, cx.low, cy.low, cz.low, r.low);
+    const Normal high = normal(x.high, y.high, z.high, cx.high, cy.high, cz.high, r.high);
     const Floats nx = Wide::narrow(low.nx, high.nx), ny = Wide::narrow(low.ny, high.ny);
     const Floats nz = Wide::narrow(low.nz, high.nz);
     const Floats sx = Wide::narrow(low.px, high.px), sy = Wide::narrow(low.py, high.py);
