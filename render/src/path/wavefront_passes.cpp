@@ -483,6 +483,26 @@ std::size_t compact(Wavefront& w, std::size_t hits) {
   return kept;
 }
 
+// A camera with a lens: the first kPointsAhead points of its disk for the new paths in lanes
+// [begin, live) (as in draw()), from their counters past the point in the pixel.
+void draw_lens(Wavefront& w, std::size_t begin, std::size_t live) {
+  constexpr std::uint64_t kStep = PathRandom::kStep;
+  for (std::size_t k = begin; k < live; ++k) {
+    const std::uint64_t counter = w.path.counter[k];
+    const float u1 = 2.0f * uniform_at(counter + kStep) - 1.0f;
+    const float v1 = 2.0f * uniform_at(counter + 2 * kStep) - 1.0f;
+    const float u2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 3 * kStep) - 1.0f : u1;
+    const float v2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 4 * kStep) - 1.0f : v1;
+    const std::int32_t first = u1 * u1 + v1 * v1 < 1.0f ? 1 : 0;
+    const std::int32_t second = u2 * u2 + v2 * v2 < 1.0f ? 1 : 0;
+    w.camera.lens_x[k] = first ? u1 : u2, w.camera.lens_y[k] = first ? v1 : v2;
+    w.camera.redraw[k] = (1 - first) & (1 - second);
+    // Past the second point, if drawn, where the first was rejected: a lane with every point
+    // rejected goes on from its counter in redraw_lens.
+    w.path.counter[k] = counter + (first ? 2 * kStep : 2 * kPointsAhead * kStep);
+  }
+}
+
 // The rejected lens points' next tries, one lane at a time: their draws go on past the points
 // start() drew (the path's fourth draw, or sixth with two points ahead).
 void redraw_lens(Wavefront& w, std::size_t begin) {
@@ -501,51 +521,55 @@ void start(Wavefront& w, std::size_t begin, const Camera& camera, std::uint64_t 
   constexpr std::uint64_t kStep = PathRandom::kStep;
   const std::size_t live = w.live;  // a copy: the counters' stores could alias it, as integers
   const bool lens = camera.has_defocus();
-  const std::int32_t uses_lens = lens ? 1 : 0;
-  const std::uint64_t past = lens ? 4 * kStep : 2 * kStep;  // the draws taken below
-  // The path's random stream (PathRandom's constructor, its seed's mix given), the point in the
-  // pixel and the first kPointsAhead points of the lens disk (as in draw()).
+  // The path's random stream (PathRandom's constructor, its seed's mix given) and the point in
+  // the pixel; the counter past them.
   for (std::size_t k = begin; k < live; ++k) {
     const std::uint64_t counter = PathRandom::mix(PathRandom::mix(seed_hash ^ w.camera.pixel[k]) ^
                                                   (std::uint64_t{w.camera.sample[k]} << 32));
     w.camera.x[k] = w.camera.x[k] + uniform_at(counter + kStep);
     w.camera.y[k] = w.camera.y[k] + uniform_at(counter + 2 * kStep);
-    const float u1 = 2.0f * uniform_at(counter + 3 * kStep) - 1.0f;
-    const float v1 = 2.0f * uniform_at(counter + 4 * kStep) - 1.0f;
-    const float u2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 5 * kStep) - 1.0f : u1;
-    const float v2 = kPointsAhead > 1 ? 2.0f * uniform_at(counter + 6 * kStep) - 1.0f : v1;
-    const std::int32_t first = u1 * u1 + v1 * v1 < 1.0f ? 1 : 0;
-    const std::int32_t second = u2 * u2 + v2 * v2 < 1.0f ? 1 : 0;
-    w.camera.lens_x[k] = first ? u1 : u2, w.camera.lens_y[k] = first ? v1 : v2;
-    w.camera.redraw[k] = (1 - first) & (1 - second) & uses_lens;
-    // Past the second point, if drawn, where the first was rejected: a lane with every point
-    // rejected goes on from its counter in redraw_lens.
-    w.path.counter[k] =
-        counter + (first | (1 - uses_lens) ? past : past + 2 * (kPointsAhead - 1) * kStep);
+    w.path.counter[k] = counter + 2 * kStep;
   }
-  if (lens) redraw_lens(w, begin);
-  const Camera copy = camera;                   // a local: no store to the lanes can change it
-  for (std::size_t k = begin; k < live; ++k) {  // the pinhole's ray without a lens
-    w.rays[k] = copy.ray(w.camera.x[k], w.camera.y[k], w.camera.lens_x[k], w.camera.lens_y[k]);
+  if (lens) {  // a pinhole draws no lens point, and its rays read none
+    draw_lens(w, begin, live);
+    redraw_lens(w, begin);
   }
-  for (std::size_t k = begin; k < live; ++k) {  // the ray again, not read back: vectorised
-    const Vec3 dir =
-        copy.ray(w.camera.x[k], w.camera.y[k], w.camera.lens_x[k], w.camera.lens_y[k]).dir;
-    w.path.sky[k] = sky_blend(dir.x, dir.y, dir.z);
+  const Camera copy = camera;  // a local: no store to the lanes can change it
+  RayLanes& ray = w.ray;
+  // The camera rays as lanes, and their sky blend: a loop per kind of camera, without the
+  // lens's branch, which GCC vectorises.
+  const auto set_ray = [&w, &ray](std::size_t k, const Ray& r) {
+    ray.origin_x[k] = r.origin.x, ray.origin_y[k] = r.origin.y, ray.origin_z[k] = r.origin.z;
+    ray.dir_x[k] = r.dir.x, ray.dir_y[k] = r.dir.y, ray.dir_z[k] = r.dir.z;
+    w.path.sky[k] = sky_blend(r.dir.x, r.dir.y, r.dir.z);
+  };
+  if (lens) {
+    for (std::size_t k = begin; k < live; ++k)
+      set_ray(k,
+              copy.lens_ray(w.camera.x[k], w.camera.y[k], w.camera.lens_x[k], w.camera.lens_y[k]));
+  } else {
+    for (std::size_t k = begin; k < live; ++k)
+      set_ray(k, copy.ray(w.camera.x[k], w.camera.y[k]));
   }
-  // The new paths' records: eight at a time transposed, or one by one. All eight rows stored
-  // where the array has them (the lanes past live are free): a count of rows made GCC copy them
-  // with a string instruction, a large share of start() (docs/history.md, "The third round:
-  // misses out before shading").
+  // The new paths' rays and records: eight at a time transposed, or one by one. All eight rows
+  // stored where the arrays have them (the lanes past live are free): a count of rows made GCC
+  // copy them with a string instruction, a large share of start() (docs/history.md, "The third
+  // round: misses out before shading").
   std::size_t k = begin;
   for (; kTransposes && k + 8 <= kWavefront && k < live; k += 8) {
-    Floats8 records[8];
+    Floats8 rays[8], records[8];
+    next_rays(ray, k, rays);
     path_records(w.path, k, records);
-    for (std::size_t i = 0; i < 8; ++i)
+    for (std::size_t i = 0; i < 8; ++i) {
+      store8(&w.rays[k + i], rays[i]);
       store8(&w.paths[k + i], records[i]);
+    }
   }
-  for (; k < live; ++k)
+  for (; k < live; ++k) {
+    w.rays[k] = Ray{{ray.origin_x[k], ray.origin_y[k], ray.origin_z[k]},
+                    {ray.dir_x[k], ray.dir_y[k], ray.dir_z[k]}};
     w.paths[k] = record_of(w.path, k);
+  }
 }
 
 void shade(Wavefront& w, const ShadingTable& table, const Sky& sky, Vec3* radiance) {

@@ -26,10 +26,15 @@ class Camera {
   /// Inline: the path tracer makes one per pixel and sample, and a call returns the Ray through
   /// memory.
   Ray ray(float px, float py, float lx, float ly) const {
-    const Ray pinhole = ray(px, py);
-    if (!has_defocus_) return pinhole;
+    return has_defocus_ ? lens_ray(px, py, lx, ly) : ray(px, py);
+  }
+
+  /// The same ray for a camera with defocus (has_defocus()), without the test: a loop over
+  /// many rays then has no branch.
+  Ray lens_ray(float px, float py, float lx, float ly) const {
     // The pinhole ray reaches the viewport, at distance 1 along the view direction, at t = 1:
     // the plane in focus at t = focus_dist.
+    const Ray pinhole = ray(px, py);
     const Vec3 offset = lx * lens_u_ + ly * lens_v_;
     return {origin_ + offset, focus_dist_ * pinhole.dir - offset};
   }
