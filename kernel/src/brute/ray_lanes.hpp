@@ -23,6 +23,7 @@
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 #include "simd/stride_gather.hpp"
+#include "simd/struct_rows.hpp"
 #include "sphray/ray.hpp"
 #include "sphray/spheres.hpp"
 
@@ -56,17 +57,21 @@ struct RayLanes {
     Uints masks;
   };
 
-  // A whole batch of rays of an array: each field gathered across the rays' structs
-  // (simd/stride_gather.hpp), which measured faster than copying them ray by ray
-  // (docs/performance.md, "Rays across the lanes").
+  // A whole batch of rays of an array: each ray's first eight floats (origin, direction, tmin,
+  // tmax) loaded as a row and the rows transposed (simd/struct_rows.hpp), the masks gathered
+  // across the rays' structs (simd/stride_gather.hpp); both measured faster than copying the
+  // rays one by one (docs/performance.md, "Rays across the lanes").
   static Fields fields(const Ray* rays, std::size_t count) {
     if (count < kWidth) return copied(rays, count);
     constexpr std::int32_t kStride = sizeof(Ray) / sizeof(float);
     static_assert(sizeof(Ray) == kStride * sizeof(float), "a Ray is floats and a mask");
-    const auto field = [](const auto& member) { return StrideGather<A>::load(&member, kStride); };
-    const Ray& r = rays[0];
-    return {field(r.origin.x), field(r.origin.y), field(r.origin.z), field(r.dir.x), field(r.dir.y),
-            field(r.dir.z),    field(r.tmin),     field(r.tmax),     field(r.mask)};
+    static_assert(offsetof(Ray, origin) == 0 && offsetof(Ray, dir) == 12 &&
+                  offsetof(Ray, tmin) == 24 && offsetof(Ray, tmax) == 28);
+    Floats f[8];
+    StructRows<A>::first_eight(&rays[0].origin.x, kStride, f);
+    return {f[0], f[1], f[2],
+            f[3], f[4], f[5],
+            f[6], f[7], StrideGather<A>::load(&rays[0].mask, kStride)};
   }
   // Rays as arrays per quantity, and the last rays of a stream: copied lane by lane.
   template <class Rays>

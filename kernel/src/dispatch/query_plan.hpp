@@ -207,7 +207,7 @@ struct QueryPlan {
   // leaves lanes empty). The widest instruction set takes such streams (query.cpp): it measured
   // the fastest but on the smallest views, where the 8-wide rows led on one of the two kinds of
   // rays. Same bits either way.
-  static constexpr std::size_t kAcrossUpTo = 48;
+  static constexpr std::size_t kAcrossUpTo = 64;
   static bool rays_across(std::size_t sphere_count) { return sphere_count <= kAcrossUpTo; }
 };
 
