@@ -97,6 +97,7 @@ struct alignas(64) PathLanes {
 /// The path's ray and its hit, then its next ray. gather writes the ray from the kernel's rays,
 /// t and id from its hits; surfaces reads them; scatter_all overwrites the direction with the
 /// next ray's, and spawn the origin (spawn()'s), which compact packs into the kernel's rays.
+/// start() writes the new paths' camera rays here and packs them into the kernel's rays.
 struct alignas(64) RayLanes {
   Lanes<float> origin_x, origin_y, origin_z;
   Lanes<float> dir_x, dir_y, dir_z;
@@ -152,7 +153,7 @@ struct alignas(64) CameraLanes {
 };
 
 /// A tile's paths, one per lane: rays and hits for the kernel's stream call, each path's record,
-/// and the lanes the passes compute in. 88 KiB: the tracer keeps one per thread.
+/// and the lanes the passes compute in. 85 KiB: the tracer keeps one per thread.
 ///
 /// The lanes, for every array here: lane k holds the path in lane k. The live paths are lanes
 /// [0, live), packed at the front in the order they started; the tracer fills the lanes behind
