@@ -69,9 +69,8 @@ SPHRAY_API Vec3 offset_origin(const Surface& surface, Vec3 dir);
 SPHRAY_API void surfaces(SphereView spheres, const RayArrays& rays, const HitArrays& hits,
                          const SurfaceArrays& out);
 
-/// offset_origin() for a stream: origin i is offset_origin(surfaces.at(i), dirs.at(i)), bit for
-/// bit.
-/// Throws std::length_error unless dirs.count and origins.count equal surfaces.count,
+/// offset_origin() for a stream: origin i is offset_origin(surfaces.at(i), dirs.at(i)), bit
+/// for bit. Throws std::length_error unless dirs.count and origins.count equal surfaces.count,
 /// std::invalid_argument if an array is null while count > 0.
 SPHRAY_API void offset_origins(const SurfaceArrays& surfaces, const VectorArrays& dirs,
                                const VectorOutArrays& origins);
