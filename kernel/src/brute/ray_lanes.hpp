@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include <xsimd/xsimd.hpp>
 
@@ -180,6 +181,13 @@ struct RayLanes {
         closest<false>(v, g, best_t, best_id);
       // A lane found a sphere iff its best t went below its end; else it answers its tmax.
       const Floats answer = xsimd::select(best_t < g.end, best_t, g.tmax);
+      if constexpr (std::is_same_v<Hits, Hit*>) {
+        if (count == kWidth) {  // a whole batch of Hits, {t, id} each, in two or four stores
+          static_assert(sizeof(Hit) == 2 * sizeof(float) && offsetof(Hit, id) == sizeof(float));
+          StructRows<A>::store_pairs(reinterpret_cast<float*>(hits + first), answer, best_id);
+          continue;
+        }
+      }
       alignas(64) float t[kWidth];
       alignas(64) std::uint32_t id[kWidth];
       answer.store_aligned(t);
