@@ -184,7 +184,7 @@ struct RayLanes {
       if constexpr (std::is_same_v<Hits, Hit*>) {
         if (count == kWidth) {  // a whole batch of Hits, {t, id} each, in two or four stores
           static_assert(sizeof(Hit) == 2 * sizeof(float) && offsetof(Hit, id) == sizeof(float));
-          StructRows<A>::store_pairs(reinterpret_cast<float*>(hits + first), answer, best_id);
+          StructRows<A>::store_pairs(hits + first, answer, best_id);
           continue;
         }
       }

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 
 #include <xsimd/xsimd.hpp>
@@ -96,10 +97,11 @@ struct StructRows {
       field[j] = StrideGather<A>::load(base + j, static_cast<std::int32_t>(stride));
   }
 
-  // The other way for structs of two floats: to[2k] = a[k], to[2k + 1] = b[k] for every lane k
-  // (a batch of {t, id} hits, the id's bits in b). Interleaved in registers and stored whole;
-  // xsimd's zip_lo/zip_hi interleave within 128-bit lanes only.
-  SPHRAY_FORCE_INLINE static void store_pairs(float* to, const Floats& a, const Floats& b) {
+  // The other way for structs of two 4-byte fields: a[k] and b[k] as the k-th pair at `to`,
+  // for every lane k (a batch of {t, id} hits, the id's bits in b). The x86 forms store
+  // through the intrinsics' vector types, which may alias anything. Interleaved in registers and
+  // stored whole; xsimd's zip_lo/zip_hi interleave within 128-bit lanes only.
+  SPHRAY_FORCE_INLINE static void store_pairs(void* to, const Floats& a, const Floats& b) {
 #if defined(__x86_64__) || defined(__i386__)
     if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
       const __m512 lo = _mm512_unpacklo_ps(a, b), hi = _mm512_unpackhi_ps(a, b);
@@ -107,25 +109,32 @@ struct StructRows {
           _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 4, 5, 6, 7, 20, 21, 22, 23);
       const __m512i second =
           _mm512_setr_epi32(8, 9, 10, 11, 24, 25, 26, 27, 12, 13, 14, 15, 28, 29, 30, 31);
-      _mm512_storeu_ps(to, _mm512_permutex2var_ps(lo, first, hi));
-      _mm512_storeu_ps(to + 16, _mm512_permutex2var_ps(lo, second, hi));
+      float* const out = static_cast<float*>(to);
+      _mm512_storeu_ps(out, _mm512_permutex2var_ps(lo, first, hi));
+      _mm512_storeu_ps(out + 16, _mm512_permutex2var_ps(lo, second, hi));
       return;
     } else if constexpr (std::is_base_of_v<xsimd::avx, A>) {
       const __m256 lo = _mm256_unpacklo_ps(a, b), hi = _mm256_unpackhi_ps(a, b);
-      _mm256_storeu_ps(to, _mm256_permute2f128_ps(lo, hi, 0x20));
-      _mm256_storeu_ps(to + 8, _mm256_permute2f128_ps(lo, hi, 0x31));
+      float* const out = static_cast<float*>(to);
+      _mm256_storeu_ps(out, _mm256_permute2f128_ps(lo, hi, 0x20));
+      _mm256_storeu_ps(out + 8, _mm256_permute2f128_ps(lo, hi, 0x31));
       return;
     } else if constexpr (std::is_base_of_v<xsimd::sse2, A>) {
-      _mm_storeu_ps(to, _mm_unpacklo_ps(a, b));
-      _mm_storeu_ps(to + 4, _mm_unpackhi_ps(a, b));
+      float* const out = static_cast<float*>(to);
+      _mm_storeu_ps(out, _mm_unpacklo_ps(a, b));
+      _mm_storeu_ps(out + 4, _mm_unpackhi_ps(a, b));
       return;
     }
 #endif
+    // Bytes copied, not floats assigned: `to` may hold other types of the same size (a Hit's
+    // id), which a float store would alias.
+    alignas(A::alignment()) float pairs[2 * kWidth];
     alignas(A::alignment()) float first[kWidth], second[kWidth];
     a.store_aligned(first);
     b.store_aligned(second);
     for (std::size_t k = 0; k < kWidth; ++k)
-      to[2 * k] = first[k], to[2 * k + 1] = second[k];
+      pairs[2 * k] = first[k], pairs[2 * k + 1] = second[k];
+    std::memcpy(to, pairs, sizeof pairs);
   }
 };
 
