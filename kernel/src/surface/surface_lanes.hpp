@@ -255,7 +255,7 @@ struct SurfaceLanes {
       return local;
     }
     HitArrays hits(const HitArrays& h, std::size_t i, std::size_t n) {
-      id.fill(kNoHit);
+      id.fill(std::uint32_t{kNoHit});  // a copy: binding kNoHit itself would emit it here
       for (std::size_t k = 0; k < n; ++k)
         id[k] = h.id[i + k];
       return {copy(7, h.t + i, n), id.data(), kWidth};
