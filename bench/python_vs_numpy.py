@@ -5,7 +5,7 @@ stream calls on the same arrays (through ctypes: one call, so the difference fro
 is the binding's cost). Rays per second, and how many answers agree.
 
     PYTHONPATH=build/release/python /usr/bin/python3 bench/python_vs_numpy.py \\
-        --library build/release/kernel/libsphray.so.1 [--out FILE.json]
+        --library build/release/kernel/libsphray.so.2 [--out FILE.json]
 
 Scenes: N spheres uniform in a 100-unit box, radii uniform in [0.5, 1.5) x 50 / cbrt(N) (the
 renderer's random:N recipe, drawn with numpy), N = 256, 4096 and 65536. Rays: origins uniform
@@ -176,7 +176,7 @@ def cpu_name():
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--library", required=True, help="libsphray.so.1 of the same build")
+    ap.add_argument("--library", required=True, help="libsphray.so.2 of the same build")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--out", help="write the figures here as JSON")
     ap.add_argument("--command", default="bench/python_vs_numpy.py")

@@ -58,7 +58,7 @@ py_command="bench/run.sh"
 rm -f "$numpy_json"
 if PYTHONPATH=$module_dir /usr/bin/python3 -c 'import sphray' 2>/dev/null; then
   PYTHONPATH=$module_dir /usr/bin/python3 bench/python_vs_numpy.py --out "$numpy_json" \
-    --library build/release/kernel/libsphray.so.1 --command "$py_command"
+    --library build/release/kernel/libsphray.so.2 --command "$py_command"
 else
   echo "bench/run.sh: the sphray module ($module_dir) is not importable; no numpy section"
 fi

@@ -1,4 +1,4 @@
-# Debian packages with `cpack -G DEB` (from the build directory): libsphray1 (the shared
+# Debian packages with `cpack -G DEB` (from the build directory): libsphray2 (the shared
 # library alone), libsphray-dev (headers, libsphray.a, the libsphray.so link, sphray.pc and the
 # CMake package) and sphray (the command), split along the install components.
 set(CPACK_PACKAGE_NAME sphray)
@@ -17,21 +17,21 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 # Each package's library dependencies (libtbb12, libstdc++6, libc6) from dpkg-shlibdeps.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_SECTION libs)
-# libsphray1's shlibs file (what dpkg-shlibdeps of a program linked against it will require) and
+# libsphray2's shlibs file (what dpkg-shlibdeps of a program linked against it will require) and
 # its ldconfig trigger, as Debian's policy wants of a shared library package.
 set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
 set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS_POLICY ">=")
 
-set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME libsphray1)
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME libsphray2)
 set(CPACK_COMPONENT_RUNTIME_DESCRIPTION
-    "sphray's shared library, libsphray.so.1: C and C++ API for exact ray/sphere intersection")
+    "sphray's shared library, libsphray.so.2: C and C++ API for exact ray/sphere intersection")
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_SECTION libs)
 
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_NAME libsphray-dev)
 set(CPACK_COMPONENT_DEVELOPMENT_DESCRIPTION
     "sphray's headers (C: sphray/sphray.h, C++: sphray/sphray.hpp), static library, pkg-config and CMake files")
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_SECTION libdevel)
-set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_DEPENDS "libsphray1 (= ${PROJECT_VERSION})")
+set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_DEPENDS "libsphray2 (= ${PROJECT_VERSION})")
 
 set(CPACK_DEBIAN_TOOLS_PACKAGE_NAME sphray)
 set(CPACK_COMPONENT_TOOLS_DESCRIPTION "The sphray command: renders scenes with the sphray kernel")

@@ -1,9 +1,9 @@
 # cpack -G DEB: the packages hold what they should and nothing else, libsphray-dev depends on
-# libsphray1 of the same version, they install into a scratch root with dpkg (its own package
+# libsphray2 of the same version, they install into a scratch root with dpkg (its own package
 # database there; the host's libraries satisfy the dependencies, hence --force-depends), a
 # program builds and runs against what they installed, and they remove cleanly, leaving no file.
 # Nothing outside the scratch root changes: the maintainer scripts run outside a chroot
-# (--force-script-chrootless), and the ldconfig that libsphray1's run is a stand-in that only
+# (--force-script-chrootless), and the ldconfig that libsphray2's run is a stand-in that only
 # records the call. dpkg needs root rights to set the files' owners:
 # run as another user, the packages are unpacked with dpkg-deb -x instead, and not removed.
 # Arguments: -DBINARY_DIR=<sphray build> -DWORK_DIR=<scratch> -DVERSION=<project version>
@@ -19,10 +19,10 @@ run(cpack -G DEB --config ${BINARY_DIR}/CPackConfig.cmake -B ${WORK_DIR})
 message("${output}")
 set(lib usr/${LIBDIR})
 # Each package, and the files it must hold (its directories aside, nothing more).
-set(files_libsphray1 ./${lib}/libsphray.so.1 ./${lib}/libsphray.so.${VERSION})
+set(files_libsphray2 ./${lib}/libsphray.so.2 ./${lib}/libsphray.so.${VERSION})
 # The C particle loader, where the build has the particle readers (PARTICLES=ON).
 if(PARTICLES)
-  list(APPEND files_libsphray1 ./${lib}/libsphray_particles.so.0
+  list(APPEND files_libsphray2 ./${lib}/libsphray_particles.so.0
        ./${lib}/libsphray_particles.so.${VERSION})
 endif()
 # libsphray-dev: every public header of the source tree, the generated version.h and
@@ -41,7 +41,7 @@ endif()
 file(GLOB scenes RELATIVE ${SCENE_DIR} ${SCENE_DIR}/*.json)
 list(TRANSFORM scenes PREPEND ./usr/share/sphray/scenes/)
 set(files_sphray ./usr/bin/sphray ${scenes})
-foreach(package libsphray1 libsphray-dev sphray)
+foreach(package libsphray2 libsphray-dev sphray)
   file(GLOB deb ${WORK_DIR}/${package}_${VERSION}_*.deb)
   if(NOT deb)
     if(package STREQUAL "sphray" AND NOT NEED_TOOLS)
@@ -63,11 +63,11 @@ foreach(package libsphray1 libsphray-dev sphray)
   endif()
   run(dpkg-deb -f ${deb} Package Version Depends)
   message("${output}")
-  if(package STREQUAL "libsphray-dev" AND NOT output MATCHES "libsphray1 \\(= ${VERSION}\\)")
-    message(FATAL_ERROR "failed: libsphray-dev does not depend on libsphray1 (= ${VERSION})")
+  if(package STREQUAL "libsphray-dev" AND NOT output MATCHES "libsphray2 \\(= ${VERSION}\\)")
+    message(FATAL_ERROR "failed: libsphray-dev does not depend on libsphray2 (= ${VERSION})")
   endif()
-  if(package STREQUAL "libsphray1" AND NOT output MATCHES "libstdc\\+\\+6")
-    message(FATAL_ERROR "failed: libsphray1 does not depend on libstdc++6")
+  if(package STREQUAL "libsphray2" AND NOT output MATCHES "libstdc\\+\\+6")
+    message(FATAL_ERROR "failed: libsphray2 does not depend on libstdc++6")
   endif()
   list(APPEND debs ${deb})
   list(APPEND packages ${package})
@@ -112,7 +112,7 @@ if(uid STREQUAL "0")
   endif()
   message("removed cleanly: no file left under ${root}/usr")
   if(NOT EXISTS ${WORK_DIR}/ldconfig.calls)
-    message(FATAL_ERROR "failed: libsphray1's scripts never ran ldconfig")
+    message(FATAL_ERROR "failed: libsphray2's scripts never ran ldconfig")
   endif()
 endif()
 message("packages checked: contents, dependencies, and a program built from them")

@@ -75,10 +75,23 @@ SPHRAY_API void surfaces(SphereView spheres, const RayArrays& rays, const HitArr
 SPHRAY_API void offset_origins(const SurfaceArrays& surfaces, const VectorArrays& dirs,
                                const VectorOutArrays& origins);
 
+/// The queries in double precision (docs/double.md): the same contract, with double's range in
+/// place of float's (a ray's squared direction length and a sphere's squared radius normal,
+/// finite doubles: radii from 2^-511 to below 2^512), on double's SIMD lanes.
+SPHRAY_API Hitd intersect(SphereViewd spheres, const Rayd& ray);
+SPHRAY_API bool occluded(SphereViewd spheres, const Rayd& ray);
+SPHRAY_API void intersect(SphereViewd spheres, std::span<const Rayd> rays, std::span<Hitd> hits);
+SPHRAY_API void occluded(SphereViewd spheres, std::span<const Rayd> rays, std::span<bool> blocked);
+SPHRAY_API Surfaced surface(SphereViewd spheres, const Rayd& ray, const Hitd& hit);
+SPHRAY_API Rayd spawn(const Surfaced& surface, Vec3d dir);
+SPHRAY_API Vec3d offset_origin(const Surfaced& surface, Vec3d dir);
+
 /// The reference implementation: the same contract in plain C++, one sphere at a time.
 namespace scalar {
 SPHRAY_API Hit intersect(SphereView spheres, const Ray& ray);
 SPHRAY_API bool occluded(SphereView spheres, const Ray& ray);
+SPHRAY_API Hitd intersect(SphereViewd spheres, const Rayd& ray);
+SPHRAY_API bool occluded(SphereViewd spheres, const Rayd& ray);
 }  // namespace scalar
 
 }  // namespace sphray

@@ -13,8 +13,9 @@
 
 namespace sphray {
 
-/// A non-owning structure-of-arrays view of spheres: sphere i has centre (cx[i], cy[i], cz[i])
-/// and radius radius[i], and id i. Any alignment, any count.
+/// A non-owning structure-of-arrays view of spheres, float (SphereView) or double (SphereViewd):
+/// sphere i has centre (cx[i], cy[i], cz[i]) and radius radius[i], and id i. Any alignment, any
+/// count.
 ///
 /// mask, when not null, gives each sphere a 32-bit mask: a ray sees sphere i only if
 /// mask[i] & ray.mask != 0 (docs/queries.md, "Masks"). Null: every sphere has every bit, and the
@@ -23,15 +24,19 @@ namespace sphray {
 /// padded_count is an optional promise: entries [count, padded_count) of the four arrays are
 /// readable and hold spheres that are never hit (radius <= 0). The kernel then reads whole
 /// batches up to padded_count instead of copying a partial last batch. Leave it 0 if unsure.
-struct SphereView {
-  const float* cx;
-  const float* cy;
-  const float* cz;
-  const float* radius;
+template <Scalar S>
+struct BasicSphereView {
+  const S* cx;
+  const S* cy;
+  const S* cz;
+  const S* radius;
   std::size_t count;
   std::size_t padded_count = 0;
   const std::uint32_t* mask = nullptr;  // readable up to padded_count as well, if that is set
 };
+
+using SphereView = BasicSphereView<float>;
+using SphereViewd = BasicSphereView<double>;
 
 /// Owning structure-of-arrays sphere storage. Each array starts on a kAlignment-byte boundary
 /// and is padded with never-hit spheres to a multiple of kPadding, the widest SIMD batch, so

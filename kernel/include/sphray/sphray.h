@@ -93,7 +93,7 @@ typedef struct sphray_hit_surface {
 /* A scene: an owned copy of the spheres, and the BVH when it has one. Opaque. */
 typedef struct sphray_scene sphray_scene;
 
-/* "0.2.0": the loaded library's version (not the ABI's: that is the SONAME's 1), as
+/* "0.3.0": the loaded library's version (not the ABI's: that is the SONAME's 2), as
  * SPHRAY_VERSION_STRING was when it was built. */
 SPHRAY_API const char* sphray_version(void);
 

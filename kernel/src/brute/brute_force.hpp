@@ -1,10 +1,11 @@
-// The brute-force queries over a SphereView, written once over an xsimd architecture A: the
-// view a batch of SphereLanes<A> at a time, the closest hit kept per lane and reduced across
-// the lanes once per ray (docs/kernel.md, "The SIMD algorithm").
+// The brute-force queries over a sphere view, written once over an xsimd architecture A and a
+// scalar S (float or double): the view a batch of SphereLanes<A, S> at a time, the closest hit kept
+// per lane and reduced across the lanes once per ray (docs/kernel.md, "The SIMD algorithm").
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include <xsimd/xsimd.hpp>
 
@@ -17,22 +18,33 @@
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
-template <class A>
+template <class A, class S = float>
 struct BruteForce {
-  using Lanes = SphereLanes<A>;
+  using Lanes = SphereLanes<A, S>;
   using Floats = typename Lanes::Floats;
   using Mask = typename Lanes::Mask;
   using RaySetup = typename Lanes::RaySetup;
   using Spheres = typename Lanes::Spheres;
+  using Uint = typename Lanes::Uint;
+  using View = BasicSphereView<S>;
+  using HitS = BasicHit<S>;
+  using RayS = BasicRay<S>;
   static constexpr std::size_t kWidth = Lanes::kWidth;
 
-  // Batch index i's bits, kept in a float lane: select() moves bits, never does arithmetic.
-  static Floats index_bits(std::uint32_t i) { return Floats(__builtin_bit_cast(float, i)); }
+  // Batch index i's bits, kept in a lane of S: select() moves bits, never does arithmetic.
+  static Floats index_bits(std::uint32_t i) { return Floats(__builtin_bit_cast(S, Uint{i})); }
 
   // The horizontal step, once per ray: the smallest t over the lanes, then the lowest id among
   // the lanes that hold it (a lane's id is its batch index * width + lane). Branch-free: which
   // lanes hit is random, and a data-dependent loop over them mispredicts on most rays.
-  static Hit reduce(const Floats& best_t, const Floats& best_batch, float tmax) {
+  static HitS reduce(const Floats& best_t, const Floats& best_batch, S tmax) {
+    if constexpr (!std::is_same_v<S, float>) {
+      return reduce_in_memory(best_t, best_batch, tmax);
+    } else {
+      return reduce_in_lanes(best_t, best_batch, tmax);
+    }
+  }
+  static Hit reduce_in_lanes(const Floats& best_t, const Floats& best_batch, float tmax) {
     using Reduce = LaneReduce<A>;
     using Uints = xsimd::batch<std::uint32_t, A>;
     const Floats min_t = Reduce::template all_min<float>(best_t);
@@ -47,15 +59,30 @@ struct BruteForce {
     const float t = min_t.get(0);
     return t < tmax ? Hit{t, id} : Hit{tmax, kNoHit};
   }
+  // The same choice over lanes stored to memory, for double: its 2 to 8 lanes ask no shuffles
+  // of their own from LaneReduce, and the loop runs once per ray, not per batch.
+  static HitS reduce_in_memory(const Floats& best_t, const Floats& best_batch, S tmax) {
+    alignas(64) S t[kWidth];
+    alignas(64) Uint batch[kWidth];
+    best_t.store_aligned(t);
+    xsimd::bitwise_cast<xsimd::batch<Uint, A>>(best_batch).store_aligned(batch);
+    HitS best{tmax, kNoHit};
+    for (std::size_t lane = 0; lane < kWidth; ++lane) {
+      if (batch[lane] == kNoHit) continue;
+      const auto id = static_cast<std::uint32_t>(batch[lane] * kWidth + lane);
+      if (t[lane] < best.t || (t[lane] == best.t && id < best.id)) best = {t[lane], id};
+    }
+    return best;
+  }
 
   // Batches that can be read whole: all of them if the view promises padding.
-  static std::size_t whole_batches(const SphereView& v) {
+  static std::size_t whole_batches(const View& v) {
     const std::size_t rounded = (v.count + kWidth - 1) / kWidth;
     return v.padded_count >= rounded * kWidth ? rounded : v.count / kWidth;
   }
 
   // Ids are 32-bit with kNoHit reserved: a larger view is read as its first 2^32 - 1 spheres.
-  static SphereView clamp(SphereView v) {
+  static View clamp(View v) {
     if (v.count > kNoHit) v.count = kNoHit;
     return v;
   }
@@ -68,12 +95,12 @@ struct BruteForce {
   // vector moves) waits for those stores to retire instead of forwarding them, a stall that
   // showed in the profile of a query on a few spheres (docs/decisions.md, "Queries beyond the
   // closest hit (issue 15)").
-  static Hit intersect(const SphereView& v, const Ray& ray) {
+  static HitS intersect(const View& v, const RayS& ray) {
     if (v.count > kNoHit) [[unlikely]]
       return intersect(clamp(v), ray);
     return v.mask != nullptr ? intersect<true>(v, ray) : intersect<false>(v, ray);
   }
-  static bool occluded(const SphereView& v, const Ray& ray) {
+  static bool occluded(const View& v, const RayS& ray) {
     if (v.count > kNoHit) [[unlikely]]
       return occluded(clamp(v), ray);
     return v.mask != nullptr ? occluded<true>(v, ray) : occluded<false>(v, ray);
@@ -81,7 +108,7 @@ struct BruteForce {
 
   // v.count <= kNoHit.
   template <bool kMasked>
-  static Hit intersect(const SphereView& v, const Ray& ray) {
+  static HitS intersect(const View& v, const RayS& ray) {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return {ray.tmax, kNoHit};
     Floats best_t(s.tmax);
@@ -105,7 +132,7 @@ struct BruteForce {
   }
 
   template <bool kMasked>
-  static bool occluded(const SphereView& v, const Ray& ray) {
+  static bool occluded(const View& v, const RayS& ray) {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return false;
     const Floats tmax(s.tmax);

@@ -2,6 +2,7 @@
 // obviously right rather than fast. Tests compare every instruction set against it.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -16,10 +17,20 @@
 #include "sphray/query.hpp"
 
 namespace sphray::detail {
+namespace {
+template <Scalar S>
+bool valid_line(const BasicRay<S>& ray) {
+  const S a = dot(ray.dir, ray.dir);
+  return isfinite(ray.origin) && isfinite(ray.dir) && ray.tmin < ray.tmax &&
+         a >= std::numeric_limits<S>::min() && std::isfinite(a) && ray.mask != 0;
+}
+}  // namespace
+
 bool valid_ray(const Ray& ray) {
-  const float a = dot(ray.dir, ray.dir);
-  return isfinite(ray.origin) && isfinite(ray.dir) && ray.tmin < ray.tmax && a >= 0x1p-126f &&
-         std::isfinite(a) && ray.mask != 0;
+  return valid_line(ray);
+}
+bool valid_ray(const Rayd& ray) {
+  return valid_line(ray);
 }
 }  // namespace sphray::detail
 
@@ -31,35 +42,38 @@ using detail::valid_sphere;
 
 // The sphere's two roots along ray, near <= far, if the line meets it. The same operations in
 // the same order as SphereLanes::near_far (brute/sphere_lanes.hpp), which explains the method:
-// every instruction set returns these bits.
+// every instruction set returns these bits, in float and in double.
+template <Scalar S>
 struct Roots {
-  float near, far;
+  S near, far;
 };
-std::optional<Roots> sphere_roots(Vec3 center, float radius, const Ray& ray) {
+template <Scalar S>
+std::optional<Roots<S>> sphere_roots(BasicVec3<S> center, S radius, const BasicRay<S>& ray) {
   if (!valid_sphere(center, radius)) return std::nullopt;
-  const Vec3 d = ray.dir;
-  const Vec3 g = center - ray.origin;
-  const float a = d.x * d.x + d.y * d.y + d.z * d.z;
-  const float inv_a = 1.0f / a;
-  const float b = g.x * d.x + (g.y * d.y + g.z * d.z);
-  const float k = b * inv_a;
-  const Vec3 v{k * d.x - g.x, k * d.y - g.y, k * d.z - g.z};  // centre to the closest point
-  const float disc = radius * radius - (v.x * v.x + (v.y * v.y + v.z * v.z));
-  if (!(disc >= 0.0f)) return std::nullopt;
-  const float c = k * b - disc;  // |g|^2 - r^2, consistent with disc
-  const float q = b + std::copysign(std::sqrt(a) * std::sqrt(disc), b);
-  const float t0 = c / q;
-  const float t1 = q * inv_a;
+  const BasicVec3<S> d = ray.dir;
+  const BasicVec3<S> g = center - ray.origin;
+  const S a = d.x * d.x + d.y * d.y + d.z * d.z;
+  const S inv_a = S(1) / a;
+  const S b = g.x * d.x + (g.y * d.y + g.z * d.z);
+  const S k = b * inv_a;
+  const BasicVec3<S> v{k * d.x - g.x, k * d.y - g.y, k * d.z - g.z};  // centre to closest point
+  const S disc = radius * radius - (v.x * v.x + (v.y * v.y + v.z * v.z));
+  if (!(disc >= S(0))) return std::nullopt;
+  const S c = k * b - disc;  // |g|^2 - r^2, consistent with disc
+  const S q = b + std::copysign(std::sqrt(a) * std::sqrt(disc), b);
+  const S t0 = c / q;
+  const S t1 = q * inv_a;
   // t0 is NaN only for 0/0 (origin on the sphere, tangent); both roots are then t1.
-  return Roots{t0 < t1 ? t0 : t1, t0 > t1 ? t0 : t1};
+  return Roots<S>{t0 < t1 ? t0 : t1, t0 > t1 ? t0 : t1};
 }
 
 // The ray parameter at which ray enters the sphere, or leaves it if it starts inside, when that
 // lies in (tmin, tmax).
-std::optional<float> sphere_hit(Vec3 center, float radius, const Ray& ray, float tmax) {
+template <Scalar S>
+std::optional<S> sphere_hit(BasicVec3<S> center, S radius, const BasicRay<S>& ray, S tmax) {
   const auto roots = sphere_roots(center, radius, ray);
   if (!roots) return std::nullopt;
-  const float t = roots->near > ray.tmin ? roots->near : roots->far;
+  const S t = roots->near > ray.tmin ? roots->near : roots->far;
   if (t > ray.tmin && t < tmax) return t;
   return std::nullopt;
 }
@@ -76,23 +90,25 @@ void add_crossings(Vec3 center, float radius, std::uint32_t id, const Ray& ray,
 
 // Sphere i's radius, or 0 (never hit) if the ray cannot see it: the masks share no bit. The
 // kernels hide a sphere the same way (SphereLanes::load_seen).
-float seen_radius(const SphereView& v, std::size_t i, const Ray& ray) {
-  return v.mask == nullptr || (v.mask[i] & ray.mask) != 0 ? v.radius[i] : 0.0f;
+template <Scalar S>
+S seen_radius(const BasicSphereView<S>& v, std::size_t i, const BasicRay<S>& ray) {
+  return v.mask == nullptr || (v.mask[i] & ray.mask) != 0 ? v.radius[i] : S(0);
 }
 
-Vec3 center_of(const SphereView& v, std::size_t i) {
+template <Scalar S>
+BasicVec3<S> center_of(const BasicSphereView<S>& v, std::size_t i) {
   return {v.cx[i], v.cy[i], v.cz[i]};
 }
 
-std::size_t id_count(const SphereView& v) {
+template <Scalar S>
+std::size_t id_count(const BasicSphereView<S>& v) {
   return std::min<std::size_t>(v.count, kNoHit);
 }
 
-}  // namespace
-
-Hit intersect(SphereView spheres, const Ray& ray) {
-  Hit best{ray.tmax, kNoHit};
-  if (!valid_ray(ray)) return best;
+template <Scalar S>
+BasicHit<S> closest(const BasicSphereView<S>& spheres, const BasicRay<S>& ray) {
+  BasicHit<S> best{ray.tmax, kNoHit};
+  if (!detail::valid_ray(ray)) return best;
   for (std::size_t i = 0; i < id_count(spheres); ++i) {
     // Strictly closer only: on equal t the lower id stays.
     if (auto t = sphere_hit(center_of(spheres, i), seen_radius(spheres, i, ray), ray, best.t))
@@ -101,11 +117,27 @@ Hit intersect(SphereView spheres, const Ray& ray) {
   return best;
 }
 
-bool occluded(SphereView spheres, const Ray& ray) {
-  if (!valid_ray(ray)) return false;
+template <Scalar S>
+bool any(const BasicSphereView<S>& spheres, const BasicRay<S>& ray) {
+  if (!detail::valid_ray(ray)) return false;
   for (std::size_t i = 0; i < id_count(spheres); ++i)
     if (sphere_hit(center_of(spheres, i), seen_radius(spheres, i, ray), ray, ray.tmax)) return true;
   return false;
+}
+
+}  // namespace
+
+Hit intersect(SphereView spheres, const Ray& ray) {
+  return closest(spheres, ray);
+}
+Hitd intersect(SphereViewd spheres, const Rayd& ray) {
+  return closest(spheres, ray);
+}
+bool occluded(SphereView spheres, const Ray& ray) {
+  return any(spheres, ray);
+}
+bool occluded(SphereViewd spheres, const Rayd& ray) {
+  return any(spheres, ray);
 }
 
 std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out,
@@ -150,12 +182,17 @@ std::size_t scalar_bvh_intersect_nearest(const BvhData& bvh, const Ray& ray, Hit
   return std::min(scalar_bvh_intersect_all(bvh, ray, hits, exits, capacity), capacity);
 }
 
-void scalar_stream(SphereView spheres, const Ray* rays, Hit* hits, std::size_t n) {
+// The streams in float and double.
+template <Scalar S>
+void scalar_stream(BasicSphereView<S> spheres, const BasicRay<S>* rays, BasicHit<S>* hits,
+                   std::size_t n) {
   for (std::size_t i = 0; i < n; ++i)
     hits[i] = scalar::intersect(spheres, rays[i]);
 }
 
-void scalar_occluded_stream(SphereView spheres, const Ray* rays, bool* blocked, std::size_t n) {
+template <Scalar S>
+void scalar_occluded_stream(BasicSphereView<S> spheres, const BasicRay<S>* rays, bool* blocked,
+                            std::size_t n) {
   for (std::size_t i = 0; i < n; ++i)
     blocked[i] = scalar::occluded(spheres, rays[i]);
 }
@@ -188,11 +225,11 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              1,
                                              &scalar::intersect,
                                              &scalar::occluded,
-                                             &scalar_stream,
+                                             &scalar_stream<float>,
                                              &scalar_arrays,
-                                             &scalar_occluded_stream,
-                                             &scalar_stream,
-                                             &scalar_occluded_stream,
+                                             &scalar_occluded_stream<float>,
+                                             &scalar_stream<float>,
+                                             &scalar_occluded_stream<float>,
                                              kScalarBvhWidth,
                                              &scalar_bvh_intersect,
                                              &scalar_bvh_occluded,
@@ -208,5 +245,10 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              &scalar_bvh_overlapping,
                                              &scalar_bvh_overlapping_pairs,
                                              &scalar_surfaces,
-                                             &scalar_offset_origins};
+                                             &scalar_offset_origins,
+                                             1,
+                                             &scalar::intersect,
+                                             &scalar::occluded,
+                                             &scalar_stream<double>,
+                                             &scalar_occluded_stream<double>};
 }  // namespace sphray::detail

@@ -1,12 +1,14 @@
 // One ray against the spheres in the lanes of one SIMD register, written once over an xsimd
-// architecture A: kWidth = batch<float, A>::size spheres per step (4 for SSE4.2 and NEON, 8
-// for AVX2, 16 for AVX-512). The roots and the batch pre-test; brute_force.hpp loops this over
-// a view, the tree's leaf test (bvh/leaf_test.hpp) over a leaf. Each per-ISA unit compiles it
-// into its own namespace (simd/isa_namespace.hpp) and calls only builtins and xsimd.
+// architecture A and a scalar S: kWidth = batch<S, A>::size spheres per step (in float 4 for
+// SSE4.2 and NEON, 8 for AVX2, 16 for AVX-512; in double half as many). The roots and the batch
+// pre-test; brute_force.hpp loops this over a view, the tree's leaf test (bvh/leaf_test.hpp) over a
+// leaf. Each per-ISA unit compiles it into its own namespace (simd/isa_namespace.hpp) and calls
+// only builtins and xsimd.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 
 #include <xsimd/xsimd.hpp>
@@ -29,19 +31,23 @@ namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 // leaves ask nothing.
 enum class Skip { kNever, kAfterDisc, kPreTest };
 
-template <class A>
+template <class A, class S = float>
 struct SphereLanes {
-  using Floats = xsimd::batch<float, A>;
-  using Mask = xsimd::batch_bool<float, A>;
-  using Uints = xsimd::batch<std::uint32_t, A>;
+  using Floats = xsimd::batch<S, A>;
+  using Mask = xsimd::batch_bool<S, A>;
+  // Unsigned lanes as wide as S's: the spheres' masks, widened for double.
+  using Uint = std::conditional_t<sizeof(S) == 4, std::uint32_t, std::uint64_t>;
+  using Uints = xsimd::batch<Uint, A>;
+  using View = BasicSphereView<S>;
   static constexpr std::size_t kWidth = Floats::size;
+  static constexpr bool kFloat = std::is_same_v<S, float>;
 
   // What one ray contributes to every batch, computed once per ray.
   struct RaySetup {
     Floats ox, oy, oz, dx, dy, dz;
     Floats ux, uy, uz;           // dir / |dir|, for may_hit only
     Floats length, inv_a, tmin;  // |dir| = sqrt(a), and 1/a with a = |dir|^2
-    float tmax;
+    S tmax;
     std::uint32_t mask;
   };
 
@@ -50,24 +56,32 @@ struct SphereLanes {
     Floats cx, cy, cz, r;
   };
 
-  static bool finite(float x) { return __builtin_isfinite(x); }
-  static Mask finite(const Floats& x) { return xsimd::abs(x) < Floats(__builtin_inff()); }
+  static bool finite(S x) { return __builtin_isfinite(x); }
+  static Mask finite(const Floats& x) {
+    return xsimd::abs(x) < Floats(std::numeric_limits<S>::infinity());
+  }
+  static S square_root(S x) {
+    if constexpr (kFloat)
+      return __builtin_sqrtf(x);
+    else
+      return __builtin_sqrt(x);
+  }
 
-  // a = |d|^2, for one ray (T = float) or one per lane (T = Floats), in one order of the sums.
+  // a = |d|^2, for one ray (T = S) or one per lane (T = Floats), in one order of the sums.
   template <class T>
   SPHRAY_FORCE_INLINE static T squared_length(const T& dx, const T& dy, const T& dz) {
     return dx * dx + dy * dy + dz * dz;
   }
 
-  // The contract's tests of a ray but its mask's, given a = |d|^2, for one ray (T = float: a
-  // truth value) or one per lane (T = Floats: a Mask; brute/ray_lanes.hpp): finite origin and
-  // direction, tmin < tmax, and a a normal, finite float, so that 1/a is finite too.
+  // The contract's tests of a ray but its mask's, given a = |d|^2, for one ray (T = S: a truth
+  // value) or one per lane (T = Floats: a Mask; brute/ray_lanes.hpp): finite origin and
+  // direction, tmin < tmax, and a a normal, finite number, so that 1/a is finite too.
   template <class T>
   SPHRAY_FORCE_INLINE static auto valid_line(const T& ox, const T& oy, const T& oz, const T& dx,
                                              const T& dy, const T& dz, const T& tmin, const T& tmax,
                                              const T& a) {
     return all_of(finite(ox), finite(oy), finite(oz), finite(dx), finite(dy), finite(dz),
-                  tmin < tmax, a >= T(0x1p-126f), finite(a));
+                  tmin < tmax, a >= T(std::numeric_limits<S>::min()), finite(a));
   }
   // Whether every truth value holds (bools), or in which lanes every mask does (Masks).
   template <class... M>
@@ -80,15 +94,15 @@ struct SphereLanes {
   }
 
   // False for the rays the contract says miss everything (valid_line, and a mask of 0).
-  SPHRAY_FORCE_INLINE static bool setup(const Ray& ray, RaySetup& s) {
-    const Vec3& o = ray.origin;
-    const Vec3& d = ray.dir;
-    const float a = squared_length(d.x, d.y, d.z);
+  SPHRAY_FORCE_INLINE static bool setup(const BasicRay<S>& ray, RaySetup& s) {
+    const BasicVec3<S>& o = ray.origin;
+    const BasicVec3<S>& d = ray.dir;
+    const S a = squared_length(d.x, d.y, d.z);
     const bool ok =
         valid_line(o.x, o.y, o.z, d.x, d.y, d.z, ray.tmin, ray.tmax, a) && ray.mask != 0;
     if (!ok) return false;
-    const float length = __builtin_sqrtf(a);
-    const float inv_length = 1.0f / length;
+    const S length = square_root(a);
+    const S inv_length = S(1) / length;
     s = RaySetup{Floats(o.x),
                  Floats(o.y),
                  Floats(o.z),
@@ -99,14 +113,14 @@ struct SphereLanes {
                  Floats(d.y * inv_length),
                  Floats(d.z * inv_length),
                  Floats(length),
-                 Floats(1.0f / a),
+                 Floats(S(1) / a),
                  Floats(ray.tmin),
                  ray.tmax,
                  ray.mask};
     return true;
   }
 
-  SPHRAY_FORCE_INLINE static Spheres load(const SphereView& v, std::size_t i) {
+  SPHRAY_FORCE_INLINE static Spheres load(const View& v, std::size_t i) {
     return {Floats::load_unaligned(v.cx + i), Floats::load_unaligned(v.cy + i),
             Floats::load_unaligned(v.cz + i), Floats::load_unaligned(v.radius + i)};
   }
@@ -114,14 +128,14 @@ struct SphereLanes {
   // The last count % kWidth spheres of a view that promises no padding, in a batch padded with
   // radius-0 spheres (never hit), reading nothing past the view: masked loads where the
   // instruction set has them, else a copy (simd/partial_load.hpp). Once per ray, not per batch.
-  SPHRAY_FORCE_INLINE static Spheres load_tail(const SphereView& v, std::size_t i) {
+  SPHRAY_FORCE_INLINE static Spheres load_tail(const View& v, std::size_t i) {
     using Partial = PartialLoad<A>;
     const std::size_t n = v.count - i;
-    if constexpr (Partial::kMasked) {
+    if constexpr (Partial::kMasked && kFloat) {
       return {Partial::load(v.cx + i, n), Partial::load(v.cy + i, n), Partial::load(v.cz + i, n),
               Partial::load(v.radius + i, n)};
     } else {
-      alignas(64) float x[kWidth] = {}, y[kWidth] = {}, z[kWidth] = {}, r[kWidth] = {};
+      alignas(64) S x[kWidth] = {}, y[kWidth] = {}, z[kWidth] = {}, r[kWidth] = {};
       for (std::size_t k = 0; k < n; ++k) {
         x[k] = v.cx[i + k];
         y[k] = v.cy[i + k];
@@ -132,16 +146,20 @@ struct SphereLanes {
               Floats::load_aligned(r)};
     }
   }
-  SPHRAY_FORCE_INLINE static Uints load_tail_masks(const SphereView& v, std::size_t i) {
-    const std::size_t n = v.count - i;
-    if constexpr (PartialLoad<A>::kMasked) {
-      return PartialLoad<A>::load(v.mask + i, n);
-    } else {
-      alignas(64) std::uint32_t m[kWidth] = {};
-      for (std::size_t k = 0; k < n; ++k)
-        m[k] = v.mask[i + k];
-      return Uints::load_aligned(m);
+  SPHRAY_FORCE_INLINE static Uints load_tail_masks(const View& v, std::size_t i) {
+    return load_masks(v, i, v.count - i);
+  }
+  // The masks of n spheres from i, zeros above (n < kWidth: a tail), as lanes of Uint.
+  SPHRAY_FORCE_INLINE static Uints load_masks(const View& v, std::size_t i, std::size_t n) {
+    if constexpr (kFloat) {
+      if (n >= kWidth) return Uints::load_unaligned(v.mask + i);
+      if constexpr (PartialLoad<A>::kMasked) return PartialLoad<A>::load(v.mask + i, n);
     }
+    // Widened one by one in double (xsimd 8.1 converts integers only through memory).
+    alignas(64) Uint m[kWidth] = {};
+    for (std::size_t k = 0; k < n && k < kWidth; ++k)
+      m[k] = v.mask[i + k];
+    return Uints::load_aligned(m);
   }
 
   // The batch at index i of a view, its spheres the ray cannot see (their masks share no bit
@@ -149,14 +167,13 @@ struct SphereLanes {
   // unmasked one. kMasked is the view's having masks at all, decided once per query: views
   // without them take exactly the unmasked loads.
   template <bool kMasked>
-  SPHRAY_FORCE_INLINE static Spheres load_seen(const SphereView& v, std::size_t i,
-                                               const RaySetup& s) {
+  SPHRAY_FORCE_INLINE static Spheres load_seen(const View& v, std::size_t i, const RaySetup& s) {
     Spheres sp = load(v, i);
-    if constexpr (kMasked) hide_unseen(sp, Uints::load_unaligned(v.mask + i), s.mask);
+    if constexpr (kMasked) hide_unseen(sp, load_masks(v, i, kWidth), s.mask);
     return sp;
   }
   template <bool kMasked>
-  SPHRAY_FORCE_INLINE static Spheres load_tail_seen(const SphereView& v, std::size_t i,
+  SPHRAY_FORCE_INLINE static Spheres load_tail_seen(const View& v, std::size_t i,
                                                     const RaySetup& s) {
     Spheres sp = load_tail(v, i);
     if constexpr (kMasked) hide_unseen(sp, load_tail_masks(v, i), s.mask);
@@ -164,7 +181,7 @@ struct SphereLanes {
   }
   SPHRAY_FORCE_INLINE static void hide_unseen(Spheres& sp, const Uints& masks,
                                               std::uint32_t ray_mask) {
-    const Uints seen = xsimd::bitwise_cast((masks & Uints(ray_mask)) != Uints(0u));
+    const Uints seen = xsimd::bitwise_cast((masks & Uints(ray_mask)) != Uints(0));
     sp.r = xsimd::bitwise_cast<Floats>(xsimd::bitwise_cast<Uints>(sp.r) & seen);
   }
 
@@ -217,14 +234,14 @@ struct SphereLanes {
     // fails the test; a radius of 2^64 or more makes r^2 infinite and the roots +-inf or NaN,
     // never inside (tmin, tmax). A radius below kMinRadius (<= 0 included) needs its own: its
     // square underflows, and with |v|^2 underflowing too disc is 0 far from the sphere.
-    live = disc >= Floats(0.0f);
+    live = disc >= Floats(S(0));
     if (kSkip == Skip::kAfterDisc && xsimd::none(live)) return false;
-    live = live & (sp.r >= Floats(kMinRadius));
+    live = live & (sp.r >= Floats(RadiusRange<S>::kMin));
     const Floats c = k * b - disc;
     const Floats q = b + with_sign_of(s.length * xsimd::sqrt(disc), b);
     const Floats t0 = c / q, t1 = q * s.inv_a;
     // t0 is NaN only for 0/0 (origin on the sphere, tangent), and then both roots are t1.
-    using O = Ordered<A>;
+    using O = Ordered<A, S>;
     near = O::less_or_second(t0, t1);
     far = O::greater_or_second(t0, t1);
     return true;
@@ -237,11 +254,12 @@ struct SphereLanes {
   // r^2 widened by kMayHitMargin (|g|^2 + r^2): that form cancels, but its error is below
   // 19 u |g|^2, and roots()' disc errs by less than 13 u r^2 + 8 u |g|^2 (docs/kernel.md, "The
   // SIMD algorithm"); kMayHitSlack covers underflow. NaN lanes pass.
-  static constexpr float kMayHitMargin = 64.0f * 0x1p-24f;
-  static constexpr float kMayHitSlack = 0x1p-120f;
+  // In float 64 u = 64 * 2^-24 and 2^-120 (64 FLT_MIN); in double the same in its u and min.
+  static constexpr S kMayHitMargin = 64 * (std::numeric_limits<S>::epsilon() / 2);
+  static constexpr S kMayHitSlack = 64 * std::numeric_limits<S>::min();
   SPHRAY_FORCE_INLINE static bool may_hit(const RaySetup& s, const Spheres& sp, const Floats& gx,
                                           const Floats& gy, const Floats& gz) {
-    using F = Fused<A>;
+    using F = Fused<A, S>;
     const Floats gg = F::fma(gx, gx, F::fma(gy, gy, gz * gz));
     const Floats gu = F::fma(gx, s.ux, F::fma(gy, s.uy, gz * s.uz));
     const Floats r2 = sp.r * sp.r;
@@ -253,7 +271,7 @@ struct SphereLanes {
   // out: xsimd's copysign calls a function templated on float only, one symbol for every unit
   // (simd/isa_namespace.hpp).
   SPHRAY_FORCE_INLINE static Floats with_sign_of(const Floats& x, const Floats& b) {
-    return x | (b & Floats(-0.0f));
+    return x | (b & Floats(S(-0.0)));
   }
 };
 

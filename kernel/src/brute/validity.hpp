@@ -12,14 +12,16 @@
 namespace sphray::detail {
 
 /// False for a NaN or infinite origin or direction component, a direction whose squared length
-/// is not a normal finite float, a NaN bound, or !(tmin < tmax).
+/// is not a normal finite number, a NaN bound, or !(tmin < tmax).
 bool valid_ray(const Ray& ray);
+bool valid_ray(const Rayd& ray);
 
 /// False for a NaN or infinite centre component, or a radius whose square is not a normal,
-/// finite float (radius_range.hpp: NaN, <= 0, below 2^-63 or from 2^64 on): such a sphere is
-/// never hit, and never found by the point queries.
-inline bool valid_sphere(Vec3 center, float radius) {
-  return isfinite(center) && radius >= kMinRadius && radius < kRadiusLimit;
+/// finite number (radius_range.hpp: NaN, <= 0, below 2^-63 or from 2^64 on in float): such a
+/// sphere is never hit, and never found by the point queries.
+template <Scalar S>
+bool valid_sphere(BasicVec3<S> center, S radius) {
+  return isfinite(center) && radius >= RadiusRange<S>::kMin && radius < RadiusRange<S>::kLimit;
 }
 
 }  // namespace sphray::detail

@@ -148,6 +148,23 @@ struct EntryPoints {
                                     std::vector<IdPair>& out) {
     OverlapPairs<A>::find(bvh, part, parts, out);
   }
+
+  // Double: the same plan as float's brute force, one ray at a time.
+  using BruteD = BruteForce<A, double>;
+  static Hitd intersect_d(SphereViewd v, const Rayd& ray) {
+    return QueryPlan::scalar(v.count) ? scalar::intersect(v, ray) : BruteD::intersect(v, ray);
+  }
+  static bool occluded_d(SphereViewd v, const Rayd& ray) {
+    return QueryPlan::scalar(v.count) ? scalar::occluded(v, ray) : BruteD::occluded(v, ray);
+  }
+  static void intersect_stream_d(SphereViewd v, const Rayd* rays, Hitd* hits, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i)
+      hits[i] = intersect_d(v, rays[i]);
+  }
+  static void occluded_stream_d(SphereViewd v, const Rayd* rays, bool* blocked, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i)
+      blocked[i] = occluded_d(v, rays[i]);
+  }
 };
 
 template <class A>
@@ -177,7 +194,12 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::bvh_overlapping,
           &E::bvh_overlapping_pairs,
           &SurfaceLanes<A>::surfaces,
-          &SurfaceLanes<A>::offset_origins};
+          &SurfaceLanes<A>::offset_origins,
+          E::BruteD::kWidth,
+          &E::intersect_d,
+          &E::occluded_d,
+          &E::intersect_stream_d,
+          &E::occluded_stream_d};
 }
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

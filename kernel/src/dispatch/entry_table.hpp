@@ -72,6 +72,13 @@ struct EntryTable {
                    const SurfaceArrays& out);
   void (*offset_origins)(const SurfaceArrays& surfaces, const VectorArrays& dirs,
                          const VectorOutArrays& origins);
+  /// The brute-force queries and streams in double (docs/double.md), width doubles per step.
+  std::size_t width_d;
+  Hitd (*intersect_d)(SphereViewd spheres, const Rayd& ray);
+  bool (*occluded_d)(SphereViewd spheres, const Rayd& ray);
+  void (*intersect_stream_d)(SphereViewd spheres, const Rayd* rays, Hitd* hits, std::size_t count);
+  void (*occluded_stream_d)(SphereViewd spheres, const Rayd* rays, bool* blocked,
+                            std::size_t count);
 };
 
 /// The kernel for isa, or nullptr if this build lacks it or this machine cannot run it.

@@ -53,4 +53,30 @@ void occluded(SphereView spheres, std::span<const Ray> rays, std::span<bool> blo
   stream_entries(spheres.count).occluded_stream(spheres, rays.data(), blocked.data(), rays.size());
 }
 
+// Double: the active instruction set whatever the view's size (entries_for_size() measures
+// float's batches), and the scalar loop for the views it would send there.
+Hitd intersect(SphereViewd spheres, const Rayd& ray) {
+  if (detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(spheres.count))
+    return scalar::intersect(spheres, ray);
+  return detail::active_entries().intersect_d(spheres, ray);
+}
+
+bool occluded(SphereViewd spheres, const Rayd& ray) {
+  if (detail::SPHRAY_ISA_NAMESPACE::QueryPlan::scalar(spheres.count))
+    return scalar::occluded(spheres, ray);
+  return detail::active_entries().occluded_d(spheres, ray);
+}
+
+void intersect(SphereViewd spheres, std::span<const Rayd> rays, std::span<Hitd> hits) {
+  if (rays.size() != hits.size())
+    throw std::length_error("sphray::intersect: rays and hits differ in size");
+  detail::active_entries().intersect_stream_d(spheres, rays.data(), hits.data(), rays.size());
+}
+
+void occluded(SphereViewd spheres, std::span<const Rayd> rays, std::span<bool> blocked) {
+  if (rays.size() != blocked.size())
+    throw std::length_error("sphray::occluded: rays and blocked differ in size");
+  detail::active_entries().occluded_stream_d(spheres, rays.data(), blocked.data(), rays.size());
+}
+
 }  // namespace sphray
