@@ -93,6 +93,9 @@ class EmbreeCrossings {
 };
 #endif
 
+/// Double against float, each instruction set's brute force per ray (double_benchmarks.cpp).
+void register_double_benchmarks();
+
 /// The core clock next to the time stamp counter, and the divider's throughput (square root
 /// and divide per vector width) that bounds the kernel: the inputs of docs/performance.md's
 /// cycles-per-batch section.

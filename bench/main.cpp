@@ -74,6 +74,7 @@ int main(int argc, char** argv) {
   register_benchmarks(implementations, builders);
   register_query_benchmarks();
   register_shadow_benchmarks();
+  register_double_benchmarks();
   describe_machine();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

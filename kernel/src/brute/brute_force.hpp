@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <type_traits>
 
 #include <xsimd/xsimd.hpp>
@@ -25,54 +26,55 @@ struct BruteForce {
   using Mask = typename Lanes::Mask;
   using RaySetup = typename Lanes::RaySetup;
   using Spheres = typename Lanes::Spheres;
-  using Uint = typename Lanes::Uint;
   using View = BasicSphereView<S>;
   using HitS = BasicHit<S>;
   using RayS = BasicRay<S>;
   static constexpr std::size_t kWidth = Lanes::kWidth;
 
-  // Batch index i's bits, kept in a lane of S: select() moves bits, never does arithmetic.
-  static Floats index_bits(std::uint32_t i) { return Floats(__builtin_bit_cast(S, Uint{i})); }
+  // Batch index i in a lane of S, which select() moves: in float its bits (a float holds no
+  // index above 2^24 exactly), in double its value (exact up to 2^53), which the reduction can
+  // then compute with.
+  static Floats index_bits(std::uint32_t i) {
+    if constexpr (std::is_same_v<S, float>)
+      return Floats(__builtin_bit_cast(float, i));
+    else
+      return Floats(static_cast<S>(i));
+  }
 
   // The horizontal step, once per ray: the smallest t over the lanes, then the lowest id among
   // the lanes that hold it (a lane's id is its batch index * width + lane). Branch-free: which
   // lanes hit is random, and a data-dependent loop over them mispredicts on most rays.
   static HitS reduce(const Floats& best_t, const Floats& best_batch, S tmax) {
-    if constexpr (!std::is_same_v<S, float>) {
-      return reduce_in_memory(best_t, best_batch, tmax);
-    } else {
-      return reduce_in_lanes(best_t, best_batch, tmax);
-    }
-  }
-  static Hit reduce_in_lanes(const Floats& best_t, const Floats& best_batch, float tmax) {
     using Reduce = LaneReduce<A>;
-    using Uints = xsimd::batch<std::uint32_t, A>;
-    const Floats min_t = Reduce::template all_min<float>(best_t);
-    const Uints ids =
-        (xsimd::bitwise_cast<Uints>(best_batch) * Uints(kWidth)) + Reduce::lane_index();
+    const Floats min_t = Reduce::template all_min<S>(best_t);
     // Lanes that never hit hold t == tmax: they are left out unless no lane hit, and that case
     // is answered below without their ids.
-    const Floats candidates =
-        xsimd::select(best_t == min_t, xsimd::bitwise_cast<Floats>(ids), index_bits(kNoHit));
-    const std::uint32_t id =
-        Reduce::template all_min<std::uint32_t>(xsimd::bitwise_cast<Uints>(candidates)).get(0);
-    const float t = min_t.get(0);
-    return t < tmax ? Hit{t, id} : Hit{tmax, kNoHit};
+    const Floats candidates = xsimd::select(best_t == min_t, ids(best_batch), index_bits(kNoHit));
+    const std::uint32_t id = lowest_id(candidates);
+    const S t = min_t.get(0);
+    return t < tmax ? HitS{t, id} : HitS{tmax, kNoHit};
   }
-  // The same choice over lanes stored to memory, for double: its 2 to 8 lanes ask no shuffles
-  // of their own from LaneReduce, and the loop runs once per ray, not per batch.
-  static HitS reduce_in_memory(const Floats& best_t, const Floats& best_batch, S tmax) {
-    alignas(64) S t[kWidth];
-    alignas(64) Uint batch[kWidth];
-    best_t.store_aligned(t);
-    xsimd::bitwise_cast<xsimd::batch<Uint, A>>(best_batch).store_aligned(batch);
-    HitS best{tmax, kNoHit};
-    for (std::size_t lane = 0; lane < kWidth; ++lane) {
-      if (batch[lane] == kNoHit) continue;
-      const auto id = static_cast<std::uint32_t>(batch[lane] * kWidth + lane);
-      if (t[lane] < best.t || (t[lane] == best.t && id < best.id)) best = {t[lane], id};
+  // Each lane's id, batch * width + lane, kept as index_bits() keeps a batch index.
+  static Floats ids(const Floats& batch) {
+    using Uints = xsimd::batch<std::uint32_t, A>;
+    if constexpr (std::is_same_v<S, float>) {
+      return xsimd::bitwise_cast<Floats>(xsimd::bitwise_cast<Uints>(batch) * Uints(kWidth) +
+                                         LaneReduce<A>::lane_index());
+    } else {
+      alignas(64) static constexpr S kLanes[] = {0, 1, 2, 3, 4, 5, 6, 7};
+      static_assert(kWidth <= std::size(kLanes));
+      return batch * Floats(static_cast<S>(kWidth)) + Floats::load_aligned(kLanes);
     }
-    return best;
+  }
+  // The smallest of the ids kept as index_bits() keeps them.
+  static std::uint32_t lowest_id(const Floats& candidates) {
+    using Reduce = LaneReduce<A>;
+    if constexpr (std::is_same_v<S, float>) {
+      using Uints = xsimd::batch<std::uint32_t, A>;
+      return Reduce::template all_min<std::uint32_t>(xsimd::bitwise_cast<Uints>(candidates)).get(0);
+    } else {
+      return static_cast<std::uint32_t>(Reduce::template all_min<S>(candidates).get(0));
+    }
   }
 
   // Batches that can be read whole: all of them if the view promises padding.

@@ -131,7 +131,7 @@ struct SphereLanes {
   SPHRAY_FORCE_INLINE static Spheres load_tail(const View& v, std::size_t i) {
     using Partial = PartialLoad<A>;
     const std::size_t n = v.count - i;
-    if constexpr (Partial::kMasked && kFloat) {
+    if constexpr (Partial::kMasked) {
       return {Partial::load(v.cx + i, n), Partial::load(v.cy + i, n), Partial::load(v.cz + i, n),
               Partial::load(v.radius + i, n)};
     } else {

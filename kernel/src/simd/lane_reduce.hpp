@@ -22,16 +22,17 @@ struct LaneReduce {
   using Batch = xsimd::batch<T, A>;
   static constexpr std::size_t kWidth = Batch<float>::size;
 
-  // The lane index i ^ kStride: swapping halves, then quarters, ... of the batch.
-  template <std::size_t kStride>
+  // The lane index i ^ kStride: swapping halves, then quarters, ... of the batch, as lanes of
+  // 32 or 64 bits (Index).
+  template <std::size_t kStride, class Index = std::uint32_t>
   struct XorLane {
-    static constexpr std::uint32_t get(std::size_t i, std::size_t) {
-      return static_cast<std::uint32_t>(i ^ kStride);
+    static constexpr Index get(std::size_t i, std::size_t) {
+      return static_cast<Index>(i ^ kStride);
     }
   };
 
   // Every lane gets the minimum over all lanes: log2(width) swap-and-min steps, no branch.
-  template <class T, std::size_t kStride = kWidth / 2>
+  template <class T, std::size_t kStride = Batch<T>::size / 2>
   static Batch<T> all_min(Batch<T> x) {
     if constexpr (kStride == 0)
       return x;
@@ -75,7 +76,8 @@ struct LaneReduce {
         return xsimd::bitwise_cast<Batch<T>>(r);
     }
 #endif
-    constexpr auto swap = xsimd::make_batch_constant<Batch<std::uint32_t>, XorLane<kStride>>();
+    using Index = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
+    constexpr auto swap = xsimd::make_batch_constant<Batch<Index>, XorLane<kStride, Index>>();
     return xsimd::swizzle(x, swap);
   }
 

@@ -35,12 +35,21 @@ struct PartialLoad {
   static constexpr bool kMasked = false;
 #endif
 
-  // p[0 .. n) into lanes 0 .. n, zeros above; 0 < n < width. Only where kMasked.
+  // p[0 .. n) into lanes 0 .. n, zeros above; 0 < n < width. Only where kMasked. T is 32-bit
+  // (floats, masks) or double.
   template <class T>
   SPHRAY_FORCE_INLINE static xsimd::batch<T, A> load(const T* p, std::size_t n) {
-    static_assert(kMasked && sizeof(T) == sizeof(float));
+    static_assert(kMasked && (sizeof(T) == sizeof(float) || std::is_same_v<T, double>));
 #if defined(__x86_64__) || defined(__i386__)
-    if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+    if constexpr (std::is_same_v<T, double>) {
+      if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+        return _mm512_maskz_loadu_pd(static_cast<__mmask8>((1u << n) - 1u), p);
+      } else {
+        const __m256i lanes = _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<long long>(n)),
+                                                 _mm256_setr_epi64x(0, 1, 2, 3));
+        return _mm256_maskload_pd(p, lanes);
+      }
+    } else if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
       const auto lanes = static_cast<__mmask16>((1u << n) - 1u);
       return as<T>(Floats(_mm512_maskz_loadu_ps(lanes, p)));
     } else {

@@ -1,0 +1,101 @@
+// Double precision against float in one run: each instruction set's brute force, one query per
+// ray, on the same scenes and rays (the float workload's, converted to double once outside the
+// timed loop). Each precision's hits are checked against its own scalar reference first.
+//   double/<scene>/<kind>/<isa>/<float|double>
+#include <string>
+#include <vector>
+
+#include "implementations.hpp"
+
+namespace sphray::bench {
+namespace {
+
+// A workload's spheres and brute-force rays in double.
+struct DoubleWorkload {
+  std::vector<double> cx, cy, cz, r;
+  std::vector<Rayd> rays;
+
+  explicit DoubleWorkload(const Workload& w) {
+    const SphereView v = w.view();
+    cx.assign(v.cx, v.cx + v.count), cy.assign(v.cy, v.cy + v.count);
+    cz.assign(v.cz, v.cz + v.count), r.assign(v.radius, v.radius + v.count);
+    for (const Ray& ray : w.brute_rays)
+      rays.push_back({{ray.origin.x, ray.origin.y, ray.origin.z},
+                      {ray.dir.x, ray.dir.y, ray.dir.z},
+                      ray.tmin,
+                      ray.tmax,
+                      ray.mask});
+  }
+  SphereViewd view() const { return {cx.data(), cy.data(), cz.data(), r.data(), cx.size()}; }
+};
+
+// Whether the kernel returns its precision's scalar reference bits on the first rays.
+template <class View, class Rays, class Query, class Reference>
+bool agrees(const View& view, const Rays& rays, Query query, Reference reference) {
+  for (std::size_t i = 0; i < rays.size() && i < kSampleRays; ++i) {
+    const auto got = query(view, rays[i]);
+    const auto want = reference(view, rays[i]);
+    if (got.id != want.id || !(got.t == want.t || (got.t != got.t && want.t != want.t)))
+      return false;
+  }
+  return true;
+}
+
+template <class View, class Rays, class Query>
+void time_queries(benchmark::State& state, const View& view, const Rays& rays, Query query) {
+  std::size_t found = 0;
+  for (auto _ : state) {
+    for (const auto& ray : rays) {
+      const auto hit = query(view, ray);
+      found += hit.found() ? 1 : 0;
+      benchmark::DoNotOptimize(hit);
+    }
+  }
+  const auto count = static_cast<std::int64_t>(rays.size());
+  state.SetItemsProcessed(state.iterations() * count);
+  state.counters["rays"] = static_cast<double>(count);
+  state.counters["spheres"] = static_cast<double>(view.count);
+  state.counters["hit_fraction"] =
+      static_cast<double>(found) / static_cast<double>(state.iterations() * count);
+}
+
+void run(benchmark::State& state, std::string_view scene, RayKind kind, const EntryTable& k,
+         bool in_double) {
+  const Workload& w = workload(scene, kind);
+  if (!in_double) {
+    if (!agrees(w.view(), w.brute_rays, k.intersect,
+                static_cast<Hit (*)(SphereView, const Ray&)>(&scalar::intersect)))
+      return state.SkipWithError("float disagrees with the scalar reference");
+    return time_queries(state, w.view(), w.brute_rays, k.intersect);
+  }
+  const DoubleWorkload d(w);
+  if (!agrees(d.view(), d.rays, k.intersect_d,
+              static_cast<Hitd (*)(SphereViewd, const Rayd&)>(&scalar::intersect)))
+    return state.SkipWithError("double disagrees with the scalar reference");
+  time_queries(state, d.view(), d.rays, k.intersect_d);
+}
+
+}  // namespace
+
+void register_double_benchmarks() {
+  for (const std::string_view scene : {"three", "rtiow-final", "random:64", "random:512"}) {
+    for (const RayKind kind : {RayKind::coherent, RayKind::incoherent}) {
+      for (const Isa isa : supported_isas()) {
+        const EntryTable& k = *find_entries(isa);
+        for (const bool in_double : {false, true}) {
+          const std::string name = "double/" + std::string(scene) + "/" +
+                                   std::string(ray_kind_name(kind)) + "/" +
+                                   std::string(isa_name(isa)) + (in_double ? "/double" : "/float");
+          benchmark::RegisterBenchmark(name.c_str(),
+                                       [scene, kind, &k, in_double](benchmark::State& s) {
+                                         run(s, scene, kind, k, in_double);
+                                       })
+              ->UseRealTime()
+              ->Unit(benchmark::kMillisecond);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace sphray::bench

@@ -1,0 +1,42 @@
+#!/usr/bin/python3
+"""Double precision against float: rays per second of each instruction set's brute force, one
+query per ray, on the same scenes and rays in one run of sphray_bench (its double/ rows), and
+the ratio double/float. Prints the markdown table of docs/double.md.
+
+Run from the repository root after a release build:
+    /usr/bin/python3 bench/double_vs_float.py [--bench build/release/bench/sphray_bench]
+"""
+import argparse
+import json
+import subprocess
+import tempfile
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--bench", default="build/release/bench/sphray_bench")
+    ap.add_argument("--min-time", default="0.3")
+    args = ap.parse_args()
+    with tempfile.NamedTemporaryFile(suffix=".json") as out:
+        subprocess.run([args.bench, "--benchmark_filter=^double/",
+                        f"--benchmark_min_time={args.min_time}",
+                        f"--benchmark_out={out.name}", "--benchmark_out_format=json"],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        report = json.load(open(out.name))
+    rates = {}
+    for b in report["benchmarks"]:
+        if "error_occurred" in b and b["error_occurred"]:
+            raise SystemExit(f"{b['name']}: {b.get('error_message')}")
+        _, scene, kind, isa, precision = b["name"].split("/")[:5]
+        rates[(scene, kind, isa, precision)] = b["items_per_second"] / 1e6
+    print("| scene | rays | instruction set | float Mrays/s | double Mrays/s | double/float |")
+    print("|---|---|---|---:|---:|---:|")
+    for (scene, kind, isa, precision), f in rates.items():
+        if precision != "float":
+            continue
+        d = rates[(scene, kind, isa, "double")]
+        print(f"| {scene} | {kind} | {isa} | {f:.2f} | {d:.2f} | {d / f:.2f}x |")
+
+
+if __name__ == "__main__":
+    main()
