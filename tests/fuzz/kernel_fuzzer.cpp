@@ -11,11 +11,14 @@
 //      returns on the same instruction set (its count_hits() too);
 //   3. return the scalar reference's answer bit for bit (docs/kernel.md, "One answer on every
 //      instruction set"), and pass a check against the exact geometry (long double, on the same
-//      float inputs) with a float error bound (docs/robustness.md, "What agree means").
+//      float inputs) with a float error bound (docs/robustness.md, "What agree means");
+//   4. in double (docs/double.md), on the same inputs scaled towards double's edges: rules 1
+//      and 2 for the brute force and surface(), and the double scalar reference's answer.
 #include <sys/mman.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -107,6 +110,9 @@ struct Input {
   unsigned misalign = 0;     // floats before the first sphere, from a 64-byte boundary
   bool padded = false;       // also test a view that promises padding
   std::vector<float> pad_r;  // radii of that padding (all <= 0)
+  // The same spheres and rays in double: positions and radii scaled by 2^position_exponent,
+  // directions by 2^direction_exponent (t by their quotient), which reaches double's own edges.
+  int position_exponent = 0, direction_exponent = 0;
 };
 
 // A tracer's secondary rays start on a sphere and often leave it (nearly) tangentially, where
@@ -153,39 +159,45 @@ Input decode(const std::uint8_t* data, std::size_t size) {
     input.pad_r.push_back(never[in.byte() % 5]);
   for (Ray& ray : input.rays)
     start_on_surface(in, input, ray);
+  input.position_exponent = 4 * static_cast<std::int8_t>(in.byte());
+  input.direction_exponent = 4 * static_cast<std::int8_t>(in.byte());
   return input;
 }
 
 // ---------------------------------------------------------------------------------------------
 // Sphere arrays that end exactly where their allocation ends.
 
-// Four arrays of `count` floats, each preceded by `misalign` unused floats from a 64-byte
-// boundary, each allocated on its own with no slack: one float past the end is poisoned.
+// Four arrays of `count` values (float or double), each preceded by `misalign` unused values
+// from a 64-byte boundary, each allocated on its own with no slack: one value past the end is
+// poisoned.
+template <class T>
 class TightArrays {
  public:
-  TightArrays(const Input& in, unsigned misalign, std::size_t extra, float pad_centre)
-      : count_(in.r.size() + extra) {
-    const std::vector<float>* src[4] = {&in.x, &in.y, &in.z, &in.r};
+  using Columns = std::array<std::vector<T>, 4>;  // x, y, z, r
+
+  TightArrays(const Columns& src, const std::vector<T>& pad_r, unsigned misalign, std::size_t extra,
+              T pad_centre)
+      : count_(src[3].size() + extra) {
     for (int k = 0; k < 4; ++k) {
       void* p = nullptr;
-      const std::size_t bytes = (misalign + count_) * sizeof(float);
+      const std::size_t bytes = (misalign + count_) * sizeof(T);
       if (posix_memalign(&p, 64, std::max<std::size_t>(bytes, 1)) != 0) std::abort();
-      mem_[k] = static_cast<float*>(p);
+      mem_[k] = static_cast<T*>(p);
       data_[k] = mem_[k] + misalign;
-      std::copy(src[k]->begin(), src[k]->end(), data_[k]);
-      for (std::size_t i = src[k]->size(); i < count_; ++i)
-        data_[k][i] = k == 3 ? in.pad_r[i - src[k]->size()] : pad_centre;
+      std::copy(src[k].begin(), src[k].end(), data_[k]);
+      for (std::size_t i = src[k].size(); i < count_; ++i)
+        data_[k][i] = k == 3 ? pad_r[i - src[k].size()] : pad_centre;
     }
   }
   ~TightArrays() {
-    for (float* p : mem_)
+    for (T* p : mem_)
       std::free(p);
   }
   TightArrays(const TightArrays&) = delete;
   TightArrays& operator=(const TightArrays&) = delete;
 
   // The last `count` spheres: the view ends at the end of the allocation whatever the count.
-  SphereView suffix(std::size_t count, std::size_t padding = 0) const {
+  BasicSphereView<T> suffix(std::size_t count, std::size_t padding = 0) const {
     const std::size_t from = count_ - padding - count;
     return {data_[0] + from, data_[1] + from, data_[2] + from,
             data_[3] + from, count,           padding == 0 ? 0 : count + padding};
@@ -193,8 +205,8 @@ class TightArrays {
 
  private:
   std::size_t count_;
-  float* mem_[4] = {};
-  float* data_[4] = {};
+  T* mem_[4] = {};
+  T* data_[4] = {};
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -445,6 +457,100 @@ void check_bvh(const EntryTable& k, const std::vector<Ray>& rays, SphereView vie
   }
 }
 
+// ---------------------------------------------------------------------------------------------
+// Double precision: the same inputs scaled into double's range, every instruction set's double
+// kernel against the double scalar reference bit for bit, and the contract's exact rules.
+
+bool valid_ray(const Rayd& ray) {
+  const double a = dot(ray.dir, ray.dir);
+  return isfinite(ray.origin) && isfinite(ray.dir) && ray.tmin < ray.tmax &&
+         a >= std::numeric_limits<double>::min() && std::isfinite(a);
+}
+
+bool valid_sphere(const SphereViewd& v, std::size_t i) {
+  return std::isfinite(v.cx[i]) && std::isfinite(v.cy[i]) && std::isfinite(v.cz[i]) &&
+         v.radius[i] >= 0x1p-511 && v.radius[i] < 0x1p512;
+}
+
+bool equal(const Hitd& a, const Hitd& b) {
+  return a.id == b.id && (a.t == b.t || (std::isnan(a.t) && std::isnan(b.t)));
+}
+
+void check_double_hit(const Rayd& ray, const SphereViewd& v, const Hitd& hit, std::size_t i,
+                      const char* name) {
+  const bool tmax_bits =
+      std::bit_cast<std::uint64_t>(hit.t) == std::bit_cast<std::uint64_t>(ray.tmax);
+  if (!valid_ray(ray) && (hit.found() || !tmax_bits))
+    fail("double: an invalid ray did not miss with t == tmax", i, v.count, name);
+  if (!hit.found()) {
+    if (!tmax_bits) fail("double: a miss did not report t == tmax", i, v.count, name);
+    return;
+  }
+  if (hit.id >= v.count) fail("double: hit an id outside the view", i, v.count, name);
+  if (!(hit.t > ray.tmin && hit.t < ray.tmax))
+    fail("double: hit outside (tmin, tmax)", i, v.count, name);
+  if (!valid_sphere(v, hit.id)) fail("double: hit an invalid sphere", i, v.count, name);
+  const Surfaced s = surface(v, ray, hit);
+  const LD len = std::sqrt(LD{s.normal.x} * s.normal.x + LD{s.normal.y} * s.normal.y +
+                           LD{s.normal.z} * s.normal.z);
+  if (!(std::fabs(len - 1) <= 1e-12L))
+    fail("double: surface() normal is not unit length", i, v.count, name);
+}
+
+void check_double_kernel(const EntryTable& k, const std::vector<Rayd>& rays,
+                         const SphereViewd& view) {
+  const char* name = isa_name(k.isa).data();
+  std::vector<Hitd> stream(rays.size());
+  k.intersect_stream_d(view, rays.data(), stream.data(), rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Hitd hit = k.intersect_d(view, rays[i]);
+    if (!equal(hit, stream[i]))
+      fail("double: stream differs from the per-ray query", i, view.count, name);
+    if (k.occluded_d(view, rays[i]) != hit.found())
+      fail("double: occluded() differs from intersect().found()", i, view.count, name);
+    if (!equal(hit, scalar::intersect(view, rays[i])))
+      fail("double: differs from the scalar reference", i, view.count, name);
+    if (!equal(hit, intersect(view, rays[i])))
+      fail("double: the dispatched query differs from its kernels", i, view.count, name);
+    check_double_hit(rays[i], view, hit, i, name);
+  }
+}
+
+void check_double(const Input& in, const std::vector<const EntryTable*>& kernels) {
+  const int e = in.position_exponent, ed = in.direction_exponent;
+  const auto scaled = [](const std::vector<float>& from, int exponent) {
+    std::vector<double> to;
+    for (const float x : from)
+      to.push_back(std::ldexp(static_cast<double>(x), exponent));
+    return to;
+  };
+  const std::vector<double> pad_r(in.pad_r.begin(), in.pad_r.end());
+  std::vector<Rayd> rays;
+  for (const Ray& r : in.rays) {
+    const auto at = [](Vec3 v, int exponent) {
+      return Vec3d{std::ldexp(static_cast<double>(v.x), exponent),
+                   std::ldexp(static_cast<double>(v.y), exponent),
+                   std::ldexp(static_cast<double>(v.z), exponent)};
+    };
+    rays.push_back({at(r.origin, e), at(r.dir, ed), std::ldexp(static_cast<double>(r.tmin), e - ed),
+                    std::ldexp(static_cast<double>(r.tmax), e - ed), r.mask});
+  }
+  const TightArrays<double>::Columns columns{scaled(in.x, e), scaled(in.y, e), scaled(in.z, e),
+                                             scaled(in.r, e)};
+  const std::size_t n = in.r.size();
+  const TightArrays<double> tight(columns, pad_r, in.misalign % 8, 0, 0.0);
+  for (std::size_t m = 0; m <= n; ++m)
+    for (const EntryTable* k : kernels)
+      check_double_kernel(*k, rays, tight.suffix(m));
+  if (in.padded) {
+    const std::size_t padding = (16 - n % 16) % 16;
+    const TightArrays<double> padded(columns, pad_r, in.misalign % 8, padding,
+                                     columns[0].empty() ? NAN : columns[0].back());
+    for (const EntryTable* k : kernels)
+      check_double_kernel(*k, rays, padded.suffix(n, padding));
+  }
+}
+
 void report() {
   std::fprintf(stderr,
                "kernel fuzzer: %llu answers checked, %llu equal to the scalar reference bit for "
@@ -471,7 +577,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (std::size_t s = 0; s < n; ++s)
       truths[i].push_back(truth(in.rays[i], in.x[s], in.y[s], in.z[s], in.r[s]));
 
-  const TightArrays tight(in, in.misalign, 0, 0.0f);
+  const TightArrays<float> tight({in.x, in.y, in.z, in.r}, in.pad_r, in.misalign, 0, 0.0f);
   std::vector<const EntryTable*> kernels;
   for (Isa isa : supported_isas())
     kernels.push_back(find_entries(isa));
@@ -489,10 +595,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // never-hit spheres whose centres are anything at all.
   if (in.padded) {
     const std::size_t padding = (16 - n % 16) % 16;
-    const TightArrays padded(in, in.misalign, padding, in.x.empty() ? NAN : in.x.back());
+    const TightArrays<float> padded({in.x, in.y, in.z, in.r}, in.pad_r, in.misalign, padding,
+                                    in.x.empty() ? NAN : in.x.back());
     for (const EntryTable* k : kernels)
       check_kernel(*k, in.rays, padded.suffix(n, padding), truths, 0);
   }
+
+  check_double(in, kernels);
 
   // The BVH of each set, built over the whole view, then refitted to the spheres in reverse
   // order (same count): both must answer exactly what brute force answers.
