@@ -303,6 +303,47 @@ TEST(Double, SpawnLeavesAndCrossesAMillimetreAtAHundredKilometres) {
   EXPECT_GT(inward, test::scaled(4000) / 4);
 }
 
+// Every crossing in double: each kernel's list, its exits and its total against the double
+// scalar reference's bit for bit, at capacities from none to more than there are, and the first
+// crossing against the closest hit (which the list must start with).
+TEST(Double, EveryCrossingGivesTheScalarReferenceBits) {
+  std::mt19937 rng(3704);
+  std::size_t crossings = 0;
+  for (const EntryTable* k : test::runnable_kernels()) {
+    for (const std::size_t n : {0, 1, 3, 9, 40, 300}) {
+      const DoubleSpheres scene = random_spheres(rng, n, {1e4, 0, -1e4}, 1.5);
+      for (const bool masked : {false, true}) {
+        const SphereViewd v = scene.view(masked);
+        for (std::size_t i = 0; i < test::scaled(200); ++i) {
+          Rayd ray = random_ray(rng, {1e4, 0, -1e4}, 1.0);
+          if (masked) ray.mask = static_cast<std::uint32_t>(rng());
+          for (const std::size_t capacity : {0, 1, 3, 64}) {
+            std::vector<Hitd> want(capacity), got(capacity);
+            std::unique_ptr<bool[]> want_exits(new bool[capacity + 1]),
+                got_exits(new bool[capacity + 1]);
+            const std::size_t total =
+                scalar::intersect_all(v, ray, want, std::span(want_exits.get(), capacity));
+            ASSERT_EQ(k->intersect_all_d(v, ray, got.data(), got_exits.get(), capacity), total)
+                << test::name_of(k);
+            for (std::size_t j = 0; j < std::min(capacity, total); ++j) {
+              ASSERT_TRUE(same_bits(want[j], got[j])) << test::name_of(k) << " crossing " << j;
+              ASSERT_EQ(want_exits[j], got_exits[j]) << test::name_of(k);
+            }
+            ASSERT_EQ(count_hits(v, ray), total);
+            const Hitd closest = scalar::intersect(v, ray);
+            ASSERT_EQ(total > 0, closest.found());
+            if (capacity > 0 && total > 0) {
+              ASSERT_TRUE(same_bits(want[0], closest));
+            }
+            crossings += capacity == 0 ? total : 0;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(crossings, 1000u);  // the scenes are crossed often enough to prove something
+}
+
 TEST(Double, StreamsAnswerAsSingleQueriesAndCheckTheirSizes) {
   std::mt19937 rng(3703);
   const DoubleSpheres scene = random_spheres(rng, 50, {0, 0, 0}, 1.5);

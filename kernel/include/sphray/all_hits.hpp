@@ -75,9 +75,16 @@ SPHRAY_API void intersect_nearest(const SphereBVH& bvh, std::span<const Ray> ray
                                   std::span<Hit> out, std::size_t per_ray,
                                   std::span<std::size_t> counts);
 
+/// Every crossing in double (docs/double.md), by brute force: the same contract and order.
+SPHRAY_API std::size_t intersect_all(SphereViewd spheres, const Rayd& ray, std::span<Hitd> out,
+                                     std::span<bool> exits = {});
+SPHRAY_API std::size_t count_hits(SphereViewd spheres, const Rayd& ray);
+
 namespace scalar {
 /// The reference implementation, one sphere at a time.
 SPHRAY_API std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out,
+                                     std::span<bool> exits);
+SPHRAY_API std::size_t intersect_all(SphereViewd spheres, const Rayd& ray, std::span<Hitd> out,
                                      std::span<bool> exits);
 }  // namespace scalar
 

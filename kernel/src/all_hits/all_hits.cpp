@@ -12,7 +12,8 @@
 namespace sphray {
 namespace {
 
-bool* exit_flags(std::span<Hit> out, std::span<bool> exits) {
+template <class HitS>
+bool* exit_flags(std::span<HitS> out, std::span<bool> exits) {
   if (exits.empty()) return nullptr;
   if (exits.size() != out.size())
     throw std::length_error("sphray::intersect_all: hits and exits differ in size");
@@ -26,6 +27,16 @@ std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out
   bool* flags = exit_flags(out, exits);
   return detail::entries_for_size(spheres.count)
       .intersect_all(spheres, ray, out.data(), flags, out.size());
+}
+
+std::size_t intersect_all(SphereViewd spheres, const Rayd& ray, std::span<Hitd> out,
+                          std::span<bool> exits) {
+  bool* flags = exit_flags(out, exits);
+  return detail::active_entries().intersect_all_d(spheres, ray, out.data(), flags, out.size());
+}
+
+std::size_t count_hits(SphereViewd spheres, const Rayd& ray) {
+  return intersect_all(spheres, ray, {}, {});
 }
 
 std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out) {

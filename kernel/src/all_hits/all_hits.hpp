@@ -1,7 +1,8 @@
-// Every crossing of a ray with the spheres, written once over an xsimd architecture A: the
-// roots of a batch of spheres at a time (brute/sphere_lanes.hpp), both of them kept where they
-// lie in (tmin, tmax), over a view (brute force) or over the leaves of a tree the ray reaches
-// (bvh/walk.hpp, with the search interval never shrinking: every hit is wanted).
+// Every crossing of a ray with the spheres, written once over an xsimd architecture A and a
+// scalar S: the roots of a batch of spheres at a time (brute/sphere_lanes.hpp), both of them
+// kept where they lie in (tmin, tmax), over a view (brute force, float or double) or over the
+// leaves of a tree the ray reaches (float; bvh/walk.hpp, with the search interval never
+// shrinking: every hit is wanted).
 #pragma once
 
 #include <cstddef>
@@ -20,16 +21,20 @@
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
-template <class A>
+template <class A, class S = float>
 struct AllHits {
-  using Lanes = SphereLanes<A>;
+  using Lanes = SphereLanes<A, S>;
+  using Brute = BruteForce<A, S>;
+  using List = BasicHitList<S>;
+  using View = BasicSphereView<S>;
+  using RayS = BasicRay<S>;
   using Floats = typename Lanes::Floats;
   using Mask = typename Lanes::Mask;
   using RaySetup = typename Lanes::RaySetup;
   using Spheres = typename Lanes::Spheres;
   static constexpr std::size_t kWidth = Lanes::kWidth;
 
-  static std::size_t intersect_all(SphereView v, const Ray& ray, HitList& list) {
+  static std::size_t intersect_all(View v, const RayS& ray, List& list) {
     return v.mask != nullptr ? intersect_all<true>(v, ray, list)
                              : intersect_all<false>(v, ray, list);
   }
@@ -39,11 +44,11 @@ struct AllHits {
   }
 
   template <bool kMasked>
-  static std::size_t intersect_all(SphereView v, const Ray& ray, HitList& list) {
+  static std::size_t intersect_all(View v, const RayS& ray, List& list) {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return 0;
-    v = BruteForce<A>::clamp(v);
-    const std::size_t whole = BruteForce<A>::whole_batches(v);
+    v = Brute::clamp(v);
+    const std::size_t whole = Brute::whole_batches(v);
     auto add = [&](const Spheres& sp, std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
       add_batch<Skip::kPreTest>(
           s, sp, list, [&](unsigned lane) { return static_cast<std::uint32_t>(first + lane); });
@@ -114,7 +119,7 @@ struct AllHits {
   // The crossings of one batch: a lane's near root is an entry, its far root an exit, each
   // where it lies in (tmin, tmax). The lanes that have one are few: a loop over their bits.
   template <Skip kSkip, class IdOf>
-  static void add_batch(const RaySetup& s, const Spheres& sp, HitList& list, IdOf id_of) {
+  static void add_batch(const RaySetup& s, const Spheres& sp, List& list, IdOf id_of) {
     Floats near, far;
     Mask live;
     if (!Lanes::template near_far<kSkip>(s, sp, near, far, live)) return;
@@ -137,7 +142,7 @@ struct AllHits {
       list.count(static_cast<std::size_t>(__builtin_popcount(entries) + __builtin_popcount(exits)));
       return;
     }
-    alignas(64) float near_t[kWidth], far_t[kWidth];
+    alignas(64) S near_t[kWidth], far_t[kWidth];
     near.store_aligned(near_t);
     far.store_aligned(far_t);
     for (; entries != 0; entries &= entries - 1) {

@@ -73,7 +73,11 @@ struct BruteForce {
       using Uints = xsimd::batch<std::uint32_t, A>;
       return Reduce::template all_min<std::uint32_t>(xsimd::bitwise_cast<Uints>(candidates)).get(0);
     } else {
-      return static_cast<std::uint32_t>(Reduce::template all_min<S>(candidates).get(0));
+      // Through 64 bits: when no lane hit, the lanes hold kNoHit * width + lane, past 2^32 (and
+      // the answer is a miss, whatever the id); a double's conversion to 32 bits out of range is
+      // undefined, a 64-bit integer's to 32 bits wraps, as float's integer lanes do.
+      const S lowest = Reduce::template all_min<S>(candidates).get(0);
+      return static_cast<std::uint32_t>(static_cast<std::uint64_t>(lowest));
     }
   }
 

@@ -79,11 +79,12 @@ std::optional<S> sphere_hit(BasicVec3<S> center, S radius, const BasicRay<S>& ra
 }
 
 // Both crossings of sphere id that lie in (tmin, tmax), into list.
-void add_crossings(Vec3 center, float radius, std::uint32_t id, const Ray& ray,
-                   detail::SPHRAY_ISA_NAMESPACE::HitList& list) {
+template <Scalar S>
+void add_crossings(BasicVec3<S> center, S radius, std::uint32_t id, const BasicRay<S>& ray,
+                   detail::SPHRAY_ISA_NAMESPACE::BasicHitList<S>& list) {
   const auto roots = sphere_roots(center, radius, ray);
   if (!roots) return;
-  const auto inside = [&](float t) { return t > ray.tmin && t < ray.tmax; };
+  const auto inside = [&](S t) { return t > ray.tmin && t < ray.tmax; };
   if (inside(roots->near)) list.add(roots->near, id, false);
   if (inside(roots->far)) list.add(roots->far, id, true);
 }
@@ -140,25 +141,38 @@ bool occluded(SphereViewd spheres, const Rayd& ray) {
   return any(spheres, ray);
 }
 
-std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out,
-                          std::span<bool> exits) {
+namespace {
+template <Scalar S>
+std::size_t every_crossing(const BasicSphereView<S>& spheres, const BasicRay<S>& ray,
+                           std::span<BasicHit<S>> out, std::span<bool> exits) {
   if (!exits.empty() && exits.size() != out.size())
     throw std::length_error("sphray::intersect_all: hits and exits differ in size");
-  detail::SPHRAY_ISA_NAMESPACE::HitList list(out.data(), exits.empty() ? nullptr : exits.data(),
-                                             out.size());
+  detail::SPHRAY_ISA_NAMESPACE::BasicHitList<S> list(
+      out.data(), exits.empty() ? nullptr : exits.data(), out.size());
   if (!valid_ray(ray)) return 0;
   for (std::size_t i = 0; i < id_count(spheres); ++i)
     add_crossings(center_of(spheres, i), seen_radius(spheres, i, ray),
                   static_cast<std::uint32_t>(i), ray, list);
   return list.total();
 }
+}  // namespace
+
+std::size_t intersect_all(SphereView spheres, const Ray& ray, std::span<Hit> out,
+                          std::span<bool> exits) {
+  return every_crossing(spheres, ray, out, exits);
+}
+std::size_t intersect_all(SphereViewd spheres, const Rayd& ray, std::span<Hitd> out,
+                          std::span<bool> exits) {
+  return every_crossing(spheres, ray, out, exits);
+}
 
 }  // namespace sphray::scalar
 
 namespace sphray::detail {
 namespace {
-std::size_t scalar_intersect_all(SphereView spheres, const Ray& ray, Hit* hits, bool* exits,
-                                 std::size_t capacity) {
+template <Scalar S>
+std::size_t scalar_intersect_all(BasicSphereView<S> spheres, const BasicRay<S>& ray,
+                                 BasicHit<S>* hits, bool* exits, std::size_t capacity) {
   return scalar::intersect_all(spheres, ray, std::span(hits, capacity),
                                std::span(exits, exits == nullptr ? 0 : capacity));
 }
@@ -236,7 +250,7 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              &scalar_bvh_intersect_stream,
                                              &scalar_bvh_arrays,
                                              &scalar_bvh_occluded_stream,
-                                             &scalar_intersect_all,
+                                             &scalar_intersect_all<float>,
                                              &scalar_bvh_intersect_all,
                                              &scalar_bvh_intersect_nearest,
                                              &scalar_nearest,
@@ -250,5 +264,6 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              &scalar::intersect,
                                              &scalar::occluded,
                                              &scalar_stream<double>,
-                                             &scalar_occluded_stream<double>};
+                                             &scalar_occluded_stream<double>,
+                                             &scalar_intersect_all<double>};
 }  // namespace sphray::detail

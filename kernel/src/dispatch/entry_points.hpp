@@ -165,6 +165,11 @@ struct EntryPoints {
     for (std::size_t i = 0; i < n; ++i)
       blocked[i] = occluded_d(v, rays[i]);
   }
+  static std::size_t intersect_all_d(SphereViewd v, const Rayd& ray, Hitd* hits, bool* exits,
+                                     std::size_t capacity) {
+    BasicHitList<double> list(hits, exits, capacity);
+    return AllHits<A, double>::intersect_all(v, ray, list);
+  }
 };
 
 template <class A>
@@ -199,7 +204,8 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::intersect_d,
           &E::occluded_d,
           &E::intersect_stream_d,
-          &E::occluded_stream_d};
+          &E::occluded_stream_d,
+          &E::intersect_all_d};
 }
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

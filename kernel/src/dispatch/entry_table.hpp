@@ -79,6 +79,8 @@ struct EntryTable {
   void (*intersect_stream_d)(SphereViewd spheres, const Rayd* rays, Hitd* hits, std::size_t count);
   void (*occluded_stream_d)(SphereViewd spheres, const Rayd* rays, bool* blocked,
                             std::size_t count);
+  std::size_t (*intersect_all_d)(SphereViewd spheres, const Rayd& ray, Hitd* hits, bool* exits,
+                                 std::size_t capacity);
 };
 
 /// The kernel for isa, or nullptr if this build lacks it or this machine cannot run it.

@@ -81,8 +81,26 @@ struct LaneReduce {
     return xsimd::swizzle(x, swap);
   }
 
-  // One bit per lane of a mask, lane 0 in bit 0: the instruction set's own mask move where it
-  // has one (xsimd 8.1 has no batch_bool::mask()), else through memory.
+  // One bit per lane of a mask (of doubles, then of floats), lane 0 in bit 0: the instruction set's
+  // own mask move where it has one (xsimd 8.1 has no batch_bool::mask()), else through memory.
+  static unsigned bits(const xsimd::batch_bool<double, A>& m) {
+#if defined(__x86_64__) || defined(__i386__)
+    if constexpr (std::is_base_of_v<xsimd::avx512f, A>)
+      return static_cast<unsigned>(static_cast<__mmask8>(m));
+    else if constexpr (std::is_base_of_v<xsimd::avx, A>)
+      return static_cast<unsigned>(_mm256_movemask_pd(m));
+    else
+      return static_cast<unsigned>(_mm_movemask_pd(m));
+#else
+    constexpr std::size_t kLanes = Batch<double>::size;
+    alignas(64) double lanes[kLanes];
+    xsimd::select(m, Batch<double>(1.0), Batch<double>(0.0)).store_aligned(lanes);
+    unsigned result = 0;
+    for (std::size_t i = 0; i < kLanes; ++i)
+      if (lanes[i] != 0.0) result |= 1u << i;
+    return result;
+#endif
+  }
   static unsigned bits(const xsimd::batch_bool<float, A>& m) {
 #if defined(__x86_64__) || defined(__i386__)
     if constexpr (std::is_base_of_v<xsimd::avx512f, A>)
