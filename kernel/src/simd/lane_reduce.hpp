@@ -81,40 +81,34 @@ struct LaneReduce {
     return xsimd::swizzle(x, swap);
   }
 
-  // One bit per lane of a mask (of doubles, then of floats), lane 0 in bit 0: the instruction set's
-  // own mask move where it has one (xsimd 8.1 has no batch_bool::mask()), else through memory.
-  static unsigned bits(const xsimd::batch_bool<double, A>& m) {
+  // One bit per lane of a mask of floats or doubles, lane 0 in bit 0: the instruction set's own
+  // mask move where it has one (xsimd 8.1 has no batch_bool::mask()), else through memory.
+  template <class T>
+  static unsigned bits(const xsimd::batch_bool<T, A>& m) {
+    static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>);
+    constexpr bool kDouble = std::is_same_v<T, double>;
 #if defined(__x86_64__) || defined(__i386__)
-    if constexpr (std::is_base_of_v<xsimd::avx512f, A>)
-      return static_cast<unsigned>(static_cast<__mmask8>(m));
-    else if constexpr (std::is_base_of_v<xsimd::avx, A>)
-      return static_cast<unsigned>(_mm256_movemask_pd(m));
-    else
-      return static_cast<unsigned>(_mm_movemask_pd(m));
+    if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+      using Bits = std::conditional_t<kDouble, __mmask8, __mmask16>;
+      return static_cast<unsigned>(static_cast<Bits>(m));
+    } else if constexpr (std::is_base_of_v<xsimd::avx, A>) {
+      if constexpr (kDouble)
+        return static_cast<unsigned>(_mm256_movemask_pd(m));
+      else
+        return static_cast<unsigned>(_mm256_movemask_ps(m));
+    } else {
+      if constexpr (kDouble)
+        return static_cast<unsigned>(_mm_movemask_pd(m));
+      else
+        return static_cast<unsigned>(_mm_movemask_ps(m));
+    }
 #else
-    constexpr std::size_t kLanes = Batch<double>::size;
-    alignas(64) double lanes[kLanes];
-    xsimd::select(m, Batch<double>(1.0), Batch<double>(0.0)).store_aligned(lanes);
+    constexpr std::size_t kLanes = Batch<T>::size;
+    alignas(64) T lanes[kLanes];
+    xsimd::select(m, Batch<T>(1), Batch<T>(0)).store_aligned(lanes);
     unsigned result = 0;
     for (std::size_t i = 0; i < kLanes; ++i)
-      if (lanes[i] != 0.0) result |= 1u << i;
-    return result;
-#endif
-  }
-  static unsigned bits(const xsimd::batch_bool<float, A>& m) {
-#if defined(__x86_64__) || defined(__i386__)
-    if constexpr (std::is_base_of_v<xsimd::avx512f, A>)
-      return static_cast<unsigned>(static_cast<__mmask16>(m));
-    else if constexpr (std::is_base_of_v<xsimd::avx, A>)
-      return static_cast<unsigned>(_mm256_movemask_ps(m));
-    else
-      return static_cast<unsigned>(_mm_movemask_ps(m));
-#else
-    alignas(64) float lanes[kWidth];
-    xsimd::select(m, Batch<float>(1.0f), Batch<float>(0.0f)).store_aligned(lanes);
-    unsigned result = 0;
-    for (std::size_t i = 0; i < kWidth; ++i)
-      if (lanes[i] != 0.0f) result |= 1u << i;
+      if (lanes[i] != T(0)) result |= 1u << i;
     return result;
 #endif
   }
