@@ -1,7 +1,11 @@
-// Double precision against float in one run: each instruction set's brute force, one query per
-// ray, on the same scenes and rays (the float workload's, converted to double once outside the
-// timed loop). Each precision's hits are checked against its own scalar reference first.
-//   double/<scene>/<kind>/<isa>/<float|double>
+// Double precision against float in one run: each instruction set's brute force and tree, one
+// query per ray, on the same scenes and rays (the float workload's, converted to double once
+// outside the timed loop), and Embree's rtcIntersect1 (float) on the tree's. Each precision's
+// hits are checked against its own scalar reference first.
+//   double/<scene>/<kind>/<isa>/<float|double>          brute force
+//   double-tree/<scene>/<kind>/<isa>/<float|double>     SphereBVH, SphereBVHd
+//   double-tree/<scene>/<kind>/embree/float             rtcIntersect1, one thread
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -15,11 +19,12 @@ struct DoubleWorkload {
   std::vector<double> cx, cy, cz, r;
   std::vector<Rayd> rays;
 
-  explicit DoubleWorkload(const Workload& w) {
+  // The brute-force rays, or all of them (the tree's).
+  DoubleWorkload(const Workload& w, bool all_rays) {
     const SphereView v = w.view();
     cx.assign(v.cx, v.cx + v.count), cy.assign(v.cy, v.cy + v.count);
     cz.assign(v.cz, v.cz + v.count), r.assign(v.radius, v.radius + v.count);
-    for (const Ray& ray : w.brute_rays)
+    for (const Ray& ray : all_rays ? w.rays : w.brute_rays)
       rays.push_back({{ray.origin.x, ray.origin.y, ray.origin.z},
                       {ray.dir.x, ray.dir.y, ray.dir.z},
                       ray.tmin,
@@ -68,12 +73,59 @@ void run(benchmark::State& state, std::string_view scene, RayKind kind, const En
       return state.SkipWithError("float disagrees with the scalar reference");
     return time_queries(state, w.view(), w.brute_rays, k.intersect);
   }
-  const DoubleWorkload d(w);
+  const DoubleWorkload d(w, false);
   if (!agrees(d.view(), d.rays, k.intersect_d,
               static_cast<Hitd (*)(SphereViewd, const Rayd&)>(&scalar::intersect)))
     return state.SkipWithError("double disagrees with the scalar reference");
   time_queries(state, d.view(), d.rays, k.intersect_d);
 }
+
+// The trees, built for instruction set isa outside the timed loop, one query per ray.
+void run_tree(benchmark::State& state, std::string_view scene, RayKind kind, Isa isa,
+              bool in_double) {
+  const Workload& w = workload(scene, kind);
+  if (!in_double) {
+    const SphereBVH tree(w.view(), isa);
+    const auto query = [&tree](SphereView, const Ray& ray) { return intersect(tree, ray); };
+    if (!agrees(w.view(), w.rays, query,
+                static_cast<Hit (*)(SphereView, const Ray&)>(&scalar::intersect)))
+      return state.SkipWithError("the float tree disagrees with the scalar reference");
+    return time_queries(state, w.view(), w.rays, query);
+  }
+  const DoubleWorkload d(w, true);
+  const SphereBVHd tree(d.view(), isa);
+  const auto query = [&tree](SphereViewd, const Rayd& ray) { return intersect(tree, ray); };
+  if (!agrees(d.view(), d.rays, query,
+              static_cast<Hitd (*)(SphereViewd, const Rayd&)>(&scalar::intersect)))
+    return state.SkipWithError("the double tree disagrees with the scalar reference");
+  time_queries(state, d.view(), d.rays, query);
+}
+
+#if SPHRAY_BENCH_EMBREE
+// Embree's rtcIntersect1 on one thread over the same rays, as `embree-intersect1` runs it.
+void run_embree(benchmark::State& state, std::string_view scene, RayKind kind) {
+  const Workload& w = workload(scene, kind);
+  const std::vector<Implementation> impls = embree_implementations();
+  const auto it = std::find_if(impls.begin(), impls.end(), [](const Implementation& i) {
+    return i.name == "embree-intersect1" && i.threads == 1;
+  });
+  const Trace trace = it->prepare(w);
+  std::vector<Hit> hits(w.rays.size());
+  std::size_t found = 0;
+  for (auto _ : state) {
+    trace(w.rays, hits);
+    found += static_cast<std::size_t>(
+        std::count_if(hits.begin(), hits.end(), [](const Hit& h) { return h.found(); }));
+    benchmark::DoNotOptimize(hits.data());
+  }
+  const auto count = static_cast<std::int64_t>(w.rays.size());
+  state.SetItemsProcessed(state.iterations() * count);
+  state.counters["rays"] = static_cast<double>(count);
+  state.counters["spheres"] = static_cast<double>(w.spheres.size());
+  state.counters["hit_fraction"] =
+      static_cast<double>(found) / static_cast<double>(state.iterations() * count);
+}
+#endif
 
 }  // namespace
 
@@ -94,6 +146,31 @@ void register_double_benchmarks() {
               ->Unit(benchmark::kMillisecond);
         }
       }
+    }
+  }
+  for (const std::string_view scene : {"rtiow-final", "random:4096", "random:65536"}) {
+    for (const RayKind kind : {RayKind::coherent, RayKind::incoherent}) {
+      const std::string prefix =
+          "double-tree/" + std::string(scene) + "/" + std::string(ray_kind_name(kind)) + "/";
+      for (const Isa isa : supported_isas()) {
+        for (const bool in_double : {false, true}) {
+          const std::string name =
+              prefix + std::string(isa_name(isa)) + (in_double ? "/double" : "/float");
+          benchmark::RegisterBenchmark(name.c_str(),
+                                       [scene, kind, isa, in_double](benchmark::State& s) {
+                                         run_tree(s, scene, kind, isa, in_double);
+                                       })
+              ->UseRealTime()
+              ->Unit(benchmark::kMillisecond);
+        }
+      }
+#if SPHRAY_BENCH_EMBREE
+      benchmark::RegisterBenchmark(
+          (prefix + "embree/float").c_str(),
+          [scene, kind](benchmark::State& s) { run_embree(s, scene, kind); })
+          ->UseRealTime()
+          ->Unit(benchmark::kMillisecond);
+#endif
     }
   }
 }

@@ -1,4 +1,5 @@
-// SphereBVH: a wide bounding volume hierarchy over spheres, for scenes too large for brute force.
+// SphereBVH: a wide bounding volume hierarchy over spheres, for scenes too large for brute force;
+// SphereBVHd, the same over double spheres (docs/double.md).
 //
 // Built once from a SphereView, it keeps its own copy of the spheres (in leaf order, with their
 // original ids), so the view may change or go away afterwards. Queries follow the contract of
@@ -58,34 +59,39 @@ class SPHRAY_API BuildCancelled : public std::runtime_error {
   BuildCancelled();
 };
 
-class SPHRAY_API SphereBVH {
+/// A tree over spheres of scalar S: SphereBVH (float) or SphereBVHd (double, docs/double.md).
+template <Scalar S>
+class SPHRAY_API BasicSphereBVH {
  public:
+  using View = BasicSphereView<S>;
+
   /// An empty tree (no spheres), for the active instruction set.
-  SphereBVH();
+  BasicSphereBVH();
   /// Builds over spheres for the active instruction set. Throws std::length_error when the
   /// tree's sphere slots would reach 2^31: each leaf takes a whole batch of W slots (W the
-  /// instruction set's width, 16 for AVX-512) however few spheres it holds, so the limit is
-  /// met before 2^31 spheres. Below 2^31 / W spheres (2^27 with AVX-512, 2^28 with AVX2) a
-  /// build never meets it; above, it depends on how full the leaves come out.
-  explicit SphereBVH(SphereView spheres, BvhBuildOptions options = {});
+  /// instruction set's width in S, 16 floats or 8 doubles for AVX-512) however few spheres it
+  /// holds, so the limit is met before 2^31 spheres. Below 2^31 / W spheres (2^27 floats with
+  /// AVX-512, 2^28 with AVX2) a build never meets it; above, it depends on how full the leaves
+  /// come out.
+  explicit BasicSphereBVH(View spheres, BvhBuildOptions options = {});
   /// Builds over spheres for isa. Throws std::invalid_argument if find_entries(isa) is null or
   /// isa is not one of the Isa enumerators.
-  SphereBVH(SphereView spheres, Isa isa, BvhBuildOptions options = {});
+  BasicSphereBVH(View spheres, Isa isa, BvhBuildOptions options = {});
   /// Builds over spheres for the active instruction set, reporting to progress, which may stop
   /// the build (a Ctrl-C, a deadline). The tree is the same as without it.
-  SphereBVH(SphereView spheres, BvhBuildOptions options, const BuildProgress& progress);
+  BasicSphereBVH(View spheres, BvhBuildOptions options, const BuildProgress& progress);
 
   /// A moved-from tree is the empty tree of the same instruction set: size() 0, every query a
   /// miss, refit() with an empty view only.
-  SphereBVH(SphereBVH&&) noexcept;
-  SphereBVH& operator=(SphereBVH&&) noexcept;
-  ~SphereBVH();
+  BasicSphereBVH(BasicSphereBVH&&) noexcept;
+  BasicSphereBVH& operator=(BasicSphereBVH&&) noexcept;
+  ~BasicSphereBVH();
 
   /// Takes the new centres and radii of the same spheres (same count, same ids) and updates the
   /// boxes, keeping the tree's shape: much cheaper than a rebuild, but the tree gets slower as
   /// spheres drift far from where they were built. Throws std::invalid_argument if the count
   /// differs.
-  void refit(SphereView spheres);
+  void refit(View spheres);
 
   /// The number of spheres (the view's count at build time).
   std::size_t size() const;
@@ -101,6 +107,11 @@ class SPHRAY_API SphereBVH {
   std::unique_ptr<Storage> storage_;  // null once moved from: the empty tree
   const detail::EntryTable* entries_;
 };
+
+using SphereBVH = BasicSphereBVH<float>;
+using SphereBVHd = BasicSphereBVH<double>;
+extern template class BasicSphereBVH<float>;
+extern template class BasicSphereBVH<double>;
 
 /// Closest hit of ray among the tree's spheres: the same result as intersect(view, ray) on the
 /// spheres it was built (or last refitted) from.
@@ -123,5 +134,13 @@ SPHRAY_API void intersect(const SphereBVH& bvh, const RayArrays& rays, const Hit
 /// blocked.size() == rays.size(). Coherent rays, such as shadow rays towards one light from
 /// neighbouring pixels' hits, go through the tree in packets.
 SPHRAY_API void occluded(const SphereBVH& bvh, std::span<const Ray> rays, std::span<bool> blocked);
+
+/// The same queries in double (docs/double.md): the same contract as brute force in double on
+/// the tree's spheres, bit for bit. The streams take the rays one at a time (no packets yet).
+SPHRAY_API Hitd intersect(const SphereBVHd& bvh, const Rayd& ray);
+SPHRAY_API bool occluded(const SphereBVHd& bvh, const Rayd& ray);
+SPHRAY_API void intersect(const SphereBVHd& bvh, std::span<const Rayd> rays, std::span<Hitd> hits);
+SPHRAY_API void occluded(const SphereBVHd& bvh, std::span<const Rayd> rays,
+                         std::span<bool> blocked);
 
 }  // namespace sphray

@@ -1,11 +1,15 @@
-// The SIMD walk's box test, written once over an xsimd architecture A: one ray against the
-// kWidth children boxes of a node per step, and the order in which the entered children are
-// visited. A NaN slab distance (0 * inf) leaves the interval as it was, through
-// Ordered<A>'s NaN rule: the slab is treated as unbounded, which is conservative.
+// The SIMD walk's box test, written once over an xsimd architecture A and the ray's scalar S:
+// one ray against the kWidth children boxes of a node per step, and the order in which the
+// entered children are visited. A double tree's nodes hold float planes, one per double lane,
+// read widened (exactly) so that the test runs in double. A NaN slab distance (0 * inf) leaves
+// the interval as it was, through Ordered's NaN rule: the slab is treated as unbounded, which
+// is conservative.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
+#include <type_traits>
 
 #include <xsimd/xsimd.hpp>
 
@@ -16,13 +20,15 @@
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
 #include "simd/ordered.hpp"
+#include "simd/widen.hpp"
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
-template <class A>
+template <class A, class S = float>
 struct BoxTest {
-  using Floats = xsimd::batch<float, A>;
-  using Mask = xsimd::batch_bool<float, A>;
+  using Floats = xsimd::batch<S, A>;
+  using Mask = xsimd::batch_bool<S, A>;
+  using Order = Ordered<A, S>;
   static constexpr std::size_t kWidth = Floats::size;
   using Node = NodeView<const float>;
   // A node visit leaves at most kWidth - 1 entries above its ancestors' (one child is visited
@@ -39,20 +45,20 @@ struct BoxTest {
 
   struct StackEntry {
     ChildRef ref;
-    float tnear;
+    S tnear;
   };
 
-  SPHRAY_FORCE_INLINE static NodeSetup node_setup(const Ray& ray) {
-    const Vec3& o = ray.origin;
-    const Vec3& d = ray.dir;
+  SPHRAY_FORCE_INLINE static NodeSetup node_setup(const BasicRay<S>& ray) {
+    const BasicVec3<S>& o = ray.origin;
+    const BasicVec3<S>& d = ray.dir;
     // A zero component gives an infinite inverse; its slab then yields +-inf, or NaN where the
     // origin lies exactly on a plane, and the NaN is ignored below.
     return {Floats(o.x),
             Floats(o.y),
             Floats(o.z),
-            Floats(1.0f / d.x),
-            Floats(1.0f / d.y),
-            Floats(1.0f / d.z),
+            Floats(S(1) / d.x),
+            Floats(S(1) / d.y),
+            Floats(S(1) / d.z),
             Floats(ray.tmin),
             __builtin_signbit(d.x) ? 1u : 0u,
             __builtin_signbit(d.y) ? 3u : 2u,
@@ -60,7 +66,10 @@ struct BoxTest {
   }
 
   SPHRAY_FORCE_INLINE static Floats plane(const Node& node, std::size_t row) {
-    return Floats::load_aligned(node.plane_row(row));
+    if constexpr (std::is_same_v<S, float>)
+      return Floats::load_aligned(node.plane_row(row));
+    else
+      return Widen<A>::load_widened(node.plane_row(row));
   }
 
   // The children whose boxes the ray enters before best_t, and where it enters them. kAhead:
@@ -74,7 +83,7 @@ struct BoxTest {
     const Floats far_x = (plane(node, s.near_x ^ 1u) - s.ox) * s.inv_dx;
     const Floats far_y = (plane(node, s.near_y ^ 1u) - s.oy) * s.inv_dy;
     const Floats far_z = (plane(node, s.near_z ^ 1u) - s.oz) * s.inv_dz;
-    const Floats shrink(kEntryScale), grow(kExitScale);
+    const Floats shrink(SlabScale<S>::kEntry), grow(SlabScale<S>::kExit);
     Floats tfar_widened;
     if constexpr (kAhead) {
       // No NaN: plain min/max, in a tree rather than a chain (the box test is on the path from
@@ -83,12 +92,11 @@ struct BoxTest {
       tnear = xsimd::max(xsimd::max(near_x, near_y), xsimd::max(near_z, s.tmin)) * shrink;
       tfar_widened = xsimd::min(xsimd::min(far_x, far_y), far_z) * grow;
     } else {
-      const Floats inf(__builtin_inff()), zero(0.0f);
-      tnear = Ordered<A>::greater_or_second(
-          near_x,
-          Ordered<A>::greater_or_second(near_y, Ordered<A>::greater_or_second(near_z, s.tmin)));
-      const Floats tfar = Ordered<A>::less_or_second(
-          far_x, Ordered<A>::less_or_second(far_y, Ordered<A>::less_or_second(far_z, inf)));
+      const Floats inf(std::numeric_limits<S>::infinity()), zero(S(0));
+      tnear = Order::greater_or_second(
+          near_x, Order::greater_or_second(near_y, Order::greater_or_second(near_z, s.tmin)));
+      const Floats tfar = Order::less_or_second(
+          far_x, Order::less_or_second(far_y, Order::less_or_second(far_z, inf)));
       // Ize's tnear <= tfar * (1 + 2 gamma(3)) is conservative only for tfar >= 0, but tmin
       // may be negative and boxes then lie behind the origin: widen each end by 2 gamma(3) of
       // its own magnitude instead, which holds for either sign (and keeps +-inf, never making
@@ -106,7 +114,7 @@ struct BoxTest {
   // an incoherent ray, take a path without data-dependent branches.
   SPHRAY_FORCE_INLINE static ChildRef enter(const Node& node, unsigned bits, const Floats& tnear,
                                             StackEntry* stack, std::size_t& top) {
-    alignas(64) float t[kWidth];
+    alignas(64) S t[kWidth];
     tnear.store_aligned(t);
     const unsigned rest = bits & (bits - 1);
     if ((rest & (rest - 1)) == 0) {

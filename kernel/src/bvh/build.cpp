@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 #include "bvh/builder.hpp"
@@ -30,9 +31,10 @@ struct LeafPlace {
 // its first slot, a multiple of the width, plus its count - 1. An aligned leaf is read as one
 // batch without a cache-line split, and the lanes past its count hold never-hit padding, not
 // the next leaf's spheres (whose extra hits only made the closest-hit fold longer).
+template <Scalar S>
 class Flattener {
  public:
-  explicit Flattener(BvhArrays& out) : out_(out), w_(out.width) {}
+  explicit Flattener(BasicBvhArrays<S>& out) : out_(out), w_(out.width) {}
 
   std::vector<LeafPlace> leaves;
   std::size_t slots_used = 0;  // leaves.size() * width
@@ -60,11 +62,13 @@ class Flattener {
   }
 
  private:
-  BvhArrays& out_;
+  BasicBvhArrays<S>& out_;
   std::size_t w_;
 };
 
-Prims make_prims(SphereView v) {
+// Double spheres go in as the float records that hold them (Prim::enclosing).
+template <Scalar S>
+Prims make_prims(BasicSphereView<S> v) {
   Prims p(v.count);
   parallel_for(v.count, kBlock, [&](std::size_t i) {
     p[i] = Prim::make(v.cx[i], v.cy[i], v.cz[i], v.radius[i]);
@@ -74,15 +78,15 @@ Prims make_prims(SphereView v) {
 }
 
 template <class T>
-BvhArrays::AlignedArray<T> allocate(std::size_t n) {
-  BvhArrays::AlignedArray<T> array(
-      static_cast<T*>(::operator new[](n * sizeof(T), std::align_val_t{64})));
+AlignedArray<T> allocate(std::size_t n) {
+  AlignedArray<T> array(static_cast<T*>(::operator new[](n * sizeof(T), std::align_val_t{64})));
   prefer_huge_pages(array.get(), n * sizeof(T));
   return array;
 }
 
 // The zeroed nodes of a tree of nodes nodes.
-void allocate_nodes(BvhArrays& out, std::size_t nodes) {
+template <Scalar S>
+void allocate_nodes(BasicBvhArrays<S>& out, std::size_t nodes) {
   if (nodes >= ChildRef::kEmptyBits) throw std::length_error("sphray::SphereBVH: too many spheres");
   out.nodes = allocate<float>(node_floats(nodes, out.width));
   std::fill_n(out.nodes.get(), node_floats(nodes, out.width), 0.0f);
@@ -92,34 +96,49 @@ void allocate_nodes(BvhArrays& out, std::size_t nodes) {
 // The sphere slots, rounded to 16 floats so that each of the four arrays starts on a cache
 // line. Not written here: write_leaves writes every slot, in order, so that a slot's page is
 // first touched when it is filled.
-void allocate_slots(BvhArrays& out, std::size_t slots) {
+template <Scalar S>
+void allocate_slots(BasicBvhArrays<S>& out, std::size_t slots) {
   out.slots = (slots + 15) / 16 * 16;
   if (out.slots >= kBvhLeafBit) throw std::length_error("sphray::SphereBVH: too many spheres");
-  out.spheres = allocate<float>(4 * out.slots);
+  out.spheres = allocate<S>(4 * out.slots);
   out.ids = allocate<std::uint32_t>(out.slots);
 }
 
 // Slots [first, first + count) as never hit: centre 0, radius 0, id kNoHit.
-void write_padding(BvhArrays& out, std::size_t first, std::size_t count) {
-  float* x = out.spheres.get() + first;
+template <Scalar S>
+void write_padding(BasicBvhArrays<S>& out, std::size_t first, std::size_t count) {
+  S* x = out.spheres.get() + first;
   for (std::size_t row = 0; row < 4; ++row)
-    std::fill_n(x + row * out.slots, count, 0.0f);
+    std::fill_n(x + row * out.slots, count, S{0});
   std::fill_n(out.ids.get() + first, count, kNoHit);
 }
 
 // Leaf k's spheres and ids to its slots, then never-hit padding to the width; an invalid
-// sphere as centre 0 and radius 0, which the kernel never hits either.
-void write_leaf(BvhArrays& out, const Prims& prims, const LeafPlace& leaf, std::size_t k) {
-  float* x = out.spheres.get();
-  float *y = x + out.slots, *z = y + out.slots, *r = z + out.slots;
+// sphere as centre 0 and radius 0, which the kernel never hits either. Float spheres come from
+// the records, read in order; double ones from the view, as the records hold only their float
+// enclosures.
+template <Scalar S>
+void write_leaf(BasicBvhArrays<S>& out, BasicSphereView<S> v, const Prims& prims,
+                const LeafPlace& leaf, std::size_t k) {
+  S* x = out.spheres.get();
+  S *y = x + out.slots, *z = y + out.slots, *r = z + out.slots;
   const std::size_t first = k * out.width;
   for (std::size_t j = 0; j < leaf.count; ++j) {
     const Prim& p = prims[leaf.begin + j];
-    x[first + j] = p.sphere[0];
-    y[first + j] = p.sphere[1];
-    z[first + j] = p.sphere[2];
-    r[first + j] = std::max(p.sphere[3], 0.0f);  // an invalid sphere's -inf (prim.hpp) to 0
-    out.ids[first + j] = prims.ids[leaf.begin + j];
+    const std::uint32_t id = prims.ids[leaf.begin + j];
+    const bool valid = p.sphere[3] >= 0.0f;  // an invalid sphere's radius is -inf (prim.hpp)
+    if constexpr (std::is_same_v<S, float>) {
+      x[first + j] = p.sphere[0];
+      y[first + j] = p.sphere[1];
+      z[first + j] = p.sphere[2];
+      r[first + j] = valid ? p.sphere[3] : 0.0f;
+    } else {
+      x[first + j] = valid ? v.cx[id] : 0.0;
+      y[first + j] = valid ? v.cy[id] : 0.0;
+      z[first + j] = valid ? v.cz[id] : 0.0;
+      r[first + j] = valid ? v.radius[id] : 0.0;
+    }
+    out.ids[first + j] = id;
   }
   write_padding(out, first + leaf.count, out.width - leaf.count);
 }
@@ -127,12 +146,14 @@ void write_leaf(BvhArrays& out, const Prims& prims, const LeafPlace& leaf, std::
 // Every slot of the tree, from the records, which hold the leaves' spheres in leaf order. The
 // records' pages go back to the system a stretch at a time as they are read, so the slots take
 // their place rather than adding to the build's peak memory (issue 34).
-void write_leaves(BvhArrays& out, Prims& prims, const std::vector<LeafPlace>& leaves) {
+template <Scalar S>
+void write_leaves(BasicBvhArrays<S>& out, BasicSphereView<S> v, Prims& prims,
+                  const std::vector<LeafPlace>& leaves) {
   constexpr std::size_t kStretch = std::size_t{1} << 16;  // leaves: about 1M spheres
   for (std::size_t begin = 0; begin < leaves.size(); begin += kStretch) {
     const std::size_t end = std::min(begin + kStretch, leaves.size());
     parallel_for(end - begin, kBlock / 16,
-                 [&](std::size_t k) { write_leaf(out, prims, leaves[begin + k], begin + k); });
+                 [&](std::size_t k) { write_leaf(out, v, prims, leaves[begin + k], begin + k); });
     const std::size_t from = leaves[begin].begin;
     const std::size_t to = end < leaves.size() ? leaves[end].begin : prims.size;
     release_pages(&prims[from], (to - from) * sizeof(Prim));
@@ -164,15 +185,16 @@ Builder::Node build_nodes(Prims& prims, std::size_t width, std::size_t parallel_
   return root;
 }
 
-BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min,
-                     ProgressCount& progress) {
-  BvhArrays out;
+template <Scalar S>
+BasicBvhArrays<S> build_here(BasicSphereView<S> v, std::size_t width, std::size_t parallel_min,
+                             ProgressCount& progress) {
+  BasicBvhArrays<S> out;
   out.width = width;
   out.source_count = v.count;
   if (v.count == 0) return out;
   out.flat = v.count <= flat_up_to(width);
   Prims prims = make_prims(v);
-  Flattener flat(out);
+  Flattener<S> flat(out);
   {
     // The builder's nodes go before the slots, the largest output array, are allocated.
     const Builder::Node root = build_nodes(prims, width, parallel_min, progress, out.flat);
@@ -180,20 +202,21 @@ BvhArrays build_here(SphereView v, std::size_t width, std::size_t parallel_min,
     flat.write(root, 0);
   }
   allocate_slots(out, flat.slots_used);
-  write_leaves(out, prims, flat.leaves);
+  write_leaves(out, v, prims, flat.leaves);
   out.leaf_overlap = measure_leaf_overlap(out);
   return out;
 }
 
 }  // namespace
 
-BvhData BvhArrays::data() const {
-  BvhData d;
+template <Scalar S>
+BasicBvhData<S> BasicBvhArrays<S>::data() const {
+  BasicBvhData<S> d;
   d.width = width;
   d.nodes = nodes.get();
   d.node_count = node_count;
   if (slots != 0) {
-    const float* x = spheres.get();
+    const S* x = spheres.get();
     d.spheres = {x, x + slots, x + 2 * slots, x + 3 * slots, slots, slots, masks.get()};
   }
   d.ids = ids.get();
@@ -204,14 +227,16 @@ BvhData BvhArrays::data() const {
   return d;
 }
 
-std::size_t BvhArrays::memory_bytes() const {
+template <Scalar S>
+std::size_t BasicBvhArrays<S>::memory_bytes() const {
   return node_floats(node_count, width) * sizeof(float) +
-         slots * (4 * sizeof(float) + sizeof(std::uint32_t)) +
+         slots * (4 * sizeof(S) + sizeof(std::uint32_t)) +
          (masks ? slots * sizeof(std::uint32_t) : 0);
 }
 
-BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions& options,
-                    const BuildProgress& report) {
+template <Scalar S>
+BasicBvhArrays<S> build_bvh(BasicSphereView<S> spheres, std::size_t width,
+                            const BvhBuildOptions& options, const BuildProgress& report) {
   if (spheres.count > (std::size_t{1} << 31))
     throw std::length_error("sphray::SphereBVH: more than 2^31 spheres");
   ProgressCount progress(report, spheres.count);
@@ -220,14 +245,21 @@ BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions
   const int cores = tbb::info::default_concurrency();
   const int use = options.threads == 0 ? cores : std::min(cores, static_cast<int>(options.threads));
   tbb::task_arena arena(use);
-  BvhArrays tree =
+  BasicBvhArrays<S> tree =
       arena.execute([&] { return build_here(spheres, width, options.parallel_min, progress); });
 #else
-  BvhArrays tree = build_here(spheres, width, options.parallel_min, progress);
+  BasicBvhArrays<S> tree = build_here(spheres, width, options.parallel_min, progress);
 #endif
   progress.done();
   copy_masks(tree, spheres);
   return tree;
 }
+
+template struct BasicBvhArrays<float>;
+template struct BasicBvhArrays<double>;
+template BasicBvhArrays<float> build_bvh(SphereView, std::size_t, const BvhBuildOptions&,
+                                         const BuildProgress&);
+template BasicBvhArrays<double> build_bvh(SphereViewd, std::size_t, const BvhBuildOptions&,
+                                          const BuildProgress&);
 
 }  // namespace sphray::detail

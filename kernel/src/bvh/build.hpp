@@ -12,21 +12,24 @@
 
 namespace sphray::detail {
 
-/// What a built tree owns; BvhData points into it.
-struct BvhArrays {
-  template <class T>
-  struct AlignedDelete {
-    void operator()(T* p) const { ::operator delete[](p, std::align_val_t{64}); }
-  };
-  template <class T>
-  using AlignedArray = std::unique_ptr<T[], AlignedDelete<T>>;
+template <class T>
+struct AlignedDelete {
+  void operator()(T* p) const { ::operator delete[](p, std::align_val_t{64}); }
+};
+/// An array on a 64-byte boundary.
+template <class T>
+using AlignedArray = std::unique_ptr<T[], AlignedDelete<T>>;
 
+/// What a built tree over spheres of scalar S owns; BasicBvhData<S> points into it. The nodes
+/// are float whatever S (bvh_data.hpp).
+template <Scalar S>
+struct BasicBvhArrays {
   std::size_t width = 0;
   AlignedArray<float> nodes;
   std::size_t node_count = 0;
-  /// Four arrays of slots floats (cx, cy, cz, radius): the spheres in leaf order, then width
+  /// Four arrays of slots scalars (cx, cy, cz, radius): the spheres in leaf order, then width
   /// never-hit spheres that a read of the last leaf's whole batch may reach.
-  AlignedArray<float> spheres;
+  AlignedArray<S> spheres;
   AlignedArray<std::uint32_t> ids;  // per slot; kNoHit for the padding
   /// Per slot, the mask of its sphere (0 for the padding); null when the view had no masks.
   AlignedArray<std::uint32_t> masks;
@@ -37,23 +40,29 @@ struct BvhArrays {
   /// the root box lies in, on average. 0 when that is unknown (no leaves, or unbounded boxes).
   float leaf_overlap = 0.0f;
 
-  BvhData data() const;
+  BasicBvhData<S> data() const;
   std::size_t memory_bytes() const;
 };
 
+using BvhArrays = BasicBvhArrays<float>;
+
 /// Builds the tree over spheres for nodes of width children and leaves of at most width
 /// spheres. Throws std::length_error past 2^31 spheres.
-BvhArrays build_bvh(SphereView spheres, std::size_t width, const BvhBuildOptions& options,
-                    const BuildProgress& progress);
+template <Scalar S>
+BasicBvhArrays<S> build_bvh(BasicSphereView<S> spheres, std::size_t width,
+                            const BvhBuildOptions& options, const BuildProgress& progress);
 
 /// Copies the moved spheres into the tree's leaf order and recomputes every box bottom-up.
-void refit_bvh(BvhArrays& tree, SphereView spheres);
+template <Scalar S>
+void refit_bvh(BasicBvhArrays<S>& tree, BasicSphereView<S> spheres);
 
 /// Gives tree the masks of spheres slot by slot (the view's ids), or none if it has none.
-void copy_masks(BvhArrays& tree, SphereView spheres);
+template <Scalar S>
+void copy_masks(BasicBvhArrays<S>& tree, BasicSphereView<S> spheres);
 
-/// The leaf boxes' summed volume over the root box's (BvhArrays::leaf_overlap), from the
+/// The leaf boxes' summed volume over the root box's (BasicBvhArrays::leaf_overlap), from the
 /// written nodes.
-float measure_leaf_overlap(const BvhArrays& tree);
+template <Scalar S>
+float measure_leaf_overlap(const BasicBvhArrays<S>& tree);
 
 }  // namespace sphray::detail

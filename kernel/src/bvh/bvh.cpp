@@ -1,8 +1,10 @@
-// SphereBVH: owns the built arrays and forwards queries to the kernel it was laid out for.
+// SphereBVH and SphereBVHd: own the built arrays and forwards queries to the kernel it was laid out
+// for.
 #include "sphray/bvh.hpp"
 
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "bvh/build.hpp"
 #include "bvh/bvh_data.hpp"
@@ -13,15 +15,20 @@ namespace sphray {
 
 BuildCancelled::BuildCancelled() : std::runtime_error("sphray::SphereBVH: build cancelled") {}
 
-struct SphereBVH::Storage {
-  detail::BvhArrays arrays;
-  detail::BvhData data;  // views of arrays
+template <Scalar S>
+struct BasicSphereBVH<S>::Storage {
+  detail::BasicBvhArrays<S> arrays;
+  detail::BasicBvhData<S> data;  // views of arrays
 
-  static std::unique_ptr<Storage> build(SphereView spheres, const detail::EntryTable& entries,
+  static std::size_t width(const detail::EntryTable& entries) {
+    return std::is_same_v<S, float> ? entries.bvh_width : entries.bvh_width_d;
+  }
+
+  static std::unique_ptr<Storage> build(View spheres, const detail::EntryTable& entries,
                                         const BvhBuildOptions& options,
                                         const BuildProgress& progress = {}) {
     auto storage = std::make_unique<Storage>();
-    storage->arrays = detail::build_bvh(spheres, entries.bvh_width, options, progress);
+    storage->arrays = detail::build_bvh(spheres, width(entries), options, progress);
     storage->data = storage->arrays.data();
     return storage;
   }
@@ -49,55 +56,72 @@ const EntryTable& entries_for(Isa isa) {
 
 }  // namespace
 
-SphereBVH::SphereBVH() : SphereBVH(SphereView{nullptr, nullptr, nullptr, nullptr, 0, 0}) {}
+template <Scalar S>
+BasicSphereBVH<S>::BasicSphereBVH()
+    : BasicSphereBVH(View{nullptr, nullptr, nullptr, nullptr, 0, 0}) {}
 
-SphereBVH::SphereBVH(SphereView spheres, BvhBuildOptions options)
-    : SphereBVH(spheres, bvh_isa(spheres.count), options) {}
+template <Scalar S>
+BasicSphereBVH<S>::BasicSphereBVH(View spheres, BvhBuildOptions options)
+    : BasicSphereBVH(spheres, bvh_isa(spheres.count), options) {}
 
-SphereBVH::SphereBVH(SphereView spheres, Isa isa, BvhBuildOptions options)
+template <Scalar S>
+BasicSphereBVH<S>::BasicSphereBVH(View spheres, Isa isa, BvhBuildOptions options)
     : entries_(&entries_for(isa)) {
   storage_ = Storage::build(spheres, *entries_, options);
 }
 
-SphereBVH::SphereBVH(SphereView spheres, BvhBuildOptions options, const BuildProgress& progress)
+template <Scalar S>
+BasicSphereBVH<S>::BasicSphereBVH(View spheres, BvhBuildOptions options,
+                                  const BuildProgress& progress)
     : entries_(&entries_for(bvh_isa(spheres.count))) {
   storage_ = Storage::build(spheres, *entries_, options, progress);
 }
 
 // A moved-from tree keeps its kernel and loses its storage: it reads as the empty tree.
-SphereBVH::SphereBVH(SphereBVH&& other) noexcept = default;
-SphereBVH& SphereBVH::operator=(SphereBVH&& other) noexcept = default;
-SphereBVH::~SphereBVH() = default;
+template <Scalar S>
+BasicSphereBVH<S>::BasicSphereBVH(BasicSphereBVH&& other) noexcept = default;
+template <Scalar S>
+BasicSphereBVH<S>& BasicSphereBVH<S>::operator=(BasicSphereBVH&& other) noexcept = default;
+template <Scalar S>
+BasicSphereBVH<S>::~BasicSphereBVH() = default;
 
-void SphereBVH::refit(SphereView spheres) {
+template <Scalar S>
+void BasicSphereBVH<S>::refit(View spheres) {
   if (!storage_)
     storage_ = Storage::build({nullptr, nullptr, nullptr, nullptr, 0, 0}, *entries_, {});
   detail::refit_bvh(storage_->arrays, spheres);
   storage_->data = storage_->arrays.data();  // the leaf overlap changed
 }
 
-std::size_t SphereBVH::size() const {
+template <Scalar S>
+std::size_t BasicSphereBVH<S>::size() const {
   return detail::BvhAccess::data(*this).count;
 }
 
-Isa SphereBVH::isa() const {
+template <Scalar S>
+Isa BasicSphereBVH<S>::isa() const {
   return entries_->isa;
 }
 
-std::size_t SphereBVH::memory_bytes() const {
+template <Scalar S>
+std::size_t BasicSphereBVH<S>::memory_bytes() const {
   return detail::BvhAccess::data(*this).memory_bytes;
 }
+
+template class BasicSphereBVH<float>;
+template class BasicSphereBVH<double>;
 
 // The empty tree's arrays: no nodes, no spheres. Every query misses it (count 0 takes the
 // scalar walk, which visits nothing).
 constexpr detail::BvhData kEmptyTree{};
+constexpr detail::BvhDatad kEmptyTreed{};
 
 const detail::BvhData& detail::BvhAccess::data(const SphereBVH& bvh) {
   return bvh.storage_ ? bvh.storage_->data : kEmptyTree;
 }
 
-const EntryTable& detail::BvhAccess::entries(const SphereBVH& bvh) {
-  return *bvh.entries_;
+const detail::BvhDatad& detail::BvhAccess::data(const SphereBVHd& bvh) {
+  return bvh.storage_ ? bvh.storage_->data : kEmptyTreed;
 }
 
 Hit intersect(const SphereBVH& bvh, const Ray& ray) {
@@ -128,6 +152,30 @@ void occluded(const SphereBVH& bvh, std::span<const Ray> rays, std::span<bool> b
     throw std::length_error("sphray::occluded: rays and blocked differ in size");
   using A = detail::BvhAccess;
   A::entries(bvh).bvh_occluded_stream(A::data(bvh), rays.data(), blocked.data(), rays.size());
+}
+
+Hitd intersect(const SphereBVHd& bvh, const Rayd& ray) {
+  using A = detail::BvhAccess;
+  return A::entries(bvh).bvh_intersect_d(A::data(bvh), ray);
+}
+
+bool occluded(const SphereBVHd& bvh, const Rayd& ray) {
+  using A = detail::BvhAccess;
+  return A::entries(bvh).bvh_occluded_d(A::data(bvh), ray);
+}
+
+void intersect(const SphereBVHd& bvh, std::span<const Rayd> rays, std::span<Hitd> hits) {
+  if (rays.size() != hits.size())
+    throw std::length_error("sphray::intersect: rays and hits differ in size");
+  using A = detail::BvhAccess;
+  A::entries(bvh).bvh_intersect_stream_d(A::data(bvh), rays.data(), hits.data(), rays.size());
+}
+
+void occluded(const SphereBVHd& bvh, std::span<const Rayd> rays, std::span<bool> blocked) {
+  if (rays.size() != blocked.size())
+    throw std::length_error("sphray::occluded: rays and blocked differ in size");
+  using A = detail::BvhAccess;
+  A::entries(bvh).bvh_occluded_stream_d(A::data(bvh), rays.data(), blocked.data(), rays.size());
 }
 
 }  // namespace sphray

@@ -10,8 +10,10 @@
 
 namespace sphray::detail {
 
-/// The flat arrays a traversal reads (see docs/bvh.md, "Layout").
-struct BvhData {
+/// The flat arrays a traversal reads (see docs/bvh.md, "Layout"), for spheres of scalar S. The
+/// boxes are float whatever S: a double tree's are rounded outward (docs/double.md).
+template <Scalar S>
+struct BasicBvhData {
   /// Children per node and spheres per leaf batch.
   std::size_t width = 0;
   /// Node k starts at nodes + k * kBvhNodeRows * width: the children's boxes as six arrays of
@@ -22,7 +24,7 @@ struct BvhData {
   /// The spheres in leaf order, each leaf an aligned batch of width slots: its spheres (at
   /// most width), then never-hit padding (radius 0). ids holds each slot's id in the view the
   /// tree was built from (kNoHit for padding).
-  SphereView spheres{nullptr, nullptr, nullptr, nullptr, 0, 0};
+  BasicSphereView<S> spheres{nullptr, nullptr, nullptr, nullptr, 0, 0};
   const std::uint32_t* ids = nullptr;
   /// Built flat: slot i holds sphere i, in full leaves under the root, so that brute force on
   /// spheres (its count set to count) is the tree's answer (kBvhBruteForceLeaves).
@@ -35,6 +37,9 @@ struct BvhData {
   /// traversal picks its leaf test by it.
   float leaf_overlap = 0.0f;
 };
+
+using BvhData = BasicBvhData<float>;
+using BvhDatad = BasicBvhData<double>;
 
 /// Trees whose leaf_overlap reaches this take the branch-free leaf test (bvh/leaf_test.hpp;
 /// why 1.25: QueryPlan::branch_free_leaves).
@@ -59,7 +64,11 @@ struct EntryTable;
 /// tree reads as the empty tree, which every query misses.
 struct BvhAccess {
   static const BvhData& data(const SphereBVH& bvh);
-  static const EntryTable& entries(const SphereBVH& bvh);
+  static const BvhDatad& data(const SphereBVHd& bvh);
+  template <Scalar S>
+  static const EntryTable& entries(const BasicSphereBVH<S>& bvh) {
+    return *bvh.entries_;
+  }
 };
 
 }  // namespace sphray::detail

@@ -1,10 +1,12 @@
-// The leaf test of the SIMD walk, written once over an xsimd architecture A: a leaf is one
+// The leaf test of the SIMD walk, written once over an xsimd architecture A and the scalar S of
+// the tree's spheres: a leaf is one
 // aligned batch of slots (its spheres, then never-hit padding), tested with the sphere kernel's
 // roots and folded into the best hit in the contract's order.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include <xsimd/xsimd.hpp>
 
@@ -18,9 +20,10 @@
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
-template <class A>
+template <class A, class S = float>
 struct LeafTest {
-  using Batch = SphereLanes<A>;
+  using Batch = SphereLanes<A, S>;
+  using Data = BasicBvhData<S>;
   using Floats = typename Batch::Floats;
   using Mask = typename Batch::Mask;
   using Uints = typename Batch::Uints;
@@ -38,9 +41,8 @@ struct LeafTest {
   // each mispredicted one costing more than the arithmetic it skips, and coherent rays lose
   // nothing without them. The tree picks (QueryPlan::branch_free_leaves).
   template <bool kBranchFree, bool kMasked>
-  SPHRAY_FORCE_INLINE static void keep_closest(const BvhData& bvh,
-                                               const typename Batch::RaySetup& s, std::size_t i,
-                                               Hit& best) {
+  SPHRAY_FORCE_INLINE static void keep_closest(const Data& bvh, const typename Batch::RaySetup& s,
+                                               std::size_t i, BasicHit<S>& best) {
     Floats t;
     Mask live;
     constexpr Skip kSkip = kBranchFree ? Skip::kNever : Skip::kAfterDisc;
@@ -49,13 +51,13 @@ struct LeafTest {
     const Mask hit = live & (t > s.tmin) & (t <= Floats(best.t));
     if constexpr (kBranchFree) {
       if (xsimd::none(hit)) return;
-      const Floats m =
-          LaneReduce<A>::template all_min<float>(xsimd::select(hit, t, Floats(__builtin_inff())));
+      const Floats m = LaneReduce<A>::template all_min<S>(
+          xsimd::select(hit, t, Floats(std::numeric_limits<S>::infinity())));
       keep_closer(best, m.get(0), lowest_id(bvh, i, LaneReduce<A>::bits(hit & (t == m))));
     } else {
       unsigned bits = LaneReduce<A>::bits(hit);
       if (bits == 0) return;
-      alignas(64) float lanes[kWidth];
+      alignas(64) S lanes[kWidth];
       t.store_aligned(lanes);
       for (; bits != 0; bits &= bits - 1) {
         const auto lane = static_cast<unsigned>(__builtin_ctz(bits));
@@ -67,7 +69,7 @@ struct LeafTest {
   // Whether some sphere of the leaf batch at slot i lies on the ray strictly between tmin and
   // tmax: the occlusion test, the same for a single ray and a packet's rays.
   template <bool kMasked>
-  SPHRAY_FORCE_INLINE static bool any_hit(const BvhData& bvh, const typename Batch::RaySetup& s,
+  SPHRAY_FORCE_INLINE static bool any_hit(const Data& bvh, const typename Batch::RaySetup& s,
                                           std::size_t i) {
     Floats t;
     Mask live;
@@ -82,7 +84,7 @@ struct LeafTest {
   // some sphere blocks strictly between their tmin and tmax; each lane's answer is any_hit's
   // for its ray, bit for bit. The padding slots after count, which no ray hits, are skipped.
   template <bool kMasked>
-  SPHRAY_FORCE_INLINE static Mask any_hit_across(const BvhData& bvh,
+  SPHRAY_FORCE_INLINE static Mask any_hit_across(const Data& bvh,
                                                  const typename Batch::RaySetup& rays,
                                                  const Floats& tmax, const Uints& ray_masks,
                                                  std::size_t i, std::size_t count, Mask open) {
@@ -92,7 +94,7 @@ struct LeafTest {
 
   // The lowest id among the lanes of the leaf at slot i whose bits are set (at least one).
   // Several lanes share the smallest t only for equal spheres: the loop rarely runs.
-  static std::uint32_t lowest_id(const BvhData& bvh, std::size_t i, unsigned lanes) {
+  static std::uint32_t lowest_id(const Data& bvh, std::size_t i, unsigned lanes) {
     std::uint32_t id = bvh.ids[i + static_cast<unsigned>(__builtin_ctz(lanes))];
     for (lanes &= lanes - 1; lanes != 0; lanes &= lanes - 1) {
       const std::uint32_t other = bvh.ids[i + static_cast<unsigned>(__builtin_ctz(lanes))];

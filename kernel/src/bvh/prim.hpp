@@ -99,6 +99,30 @@ struct alignas(16) Prim {
     if (!valid_sphere({x, y, z}, r)) return {{0.0f, 0.0f, 0.0f, -kInf}};
     return {{x, y, z, r}};
   }
+  // A double sphere as a float record whose sphere holds it, so that the box the builder gives
+  // the record holds the double sphere (a double tree's boxes are float, docs/double.md): the
+  // centre rounded to the nearest float, the radius grown by how far that moved it (the sum of
+  // the three moves bounds the distance) and rounded up. The rounding of that sum in double is
+  // far below the box's own widening (half_extent). A centre beyond float's range is clamped
+  // to it with an infinite radius: an unbounded box, which every ray enters.
+  static Prim enclosing(double x, double y, double z, double r) {
+    if (!valid_sphere<double>({x, y, z}, r)) return {{0.0f, 0.0f, 0.0f, -kInf}};
+    constexpr double kMax = 0x1.fffffep127;  // FLT_MAX
+    const double c[3] = {x, y, z};
+    Prim p;
+    double moved = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double clamped = c[axis] < -kMax ? -kMax : (c[axis] > kMax ? kMax : c[axis]);
+      p.sphere[axis] = static_cast<float>(clamped);
+      moved += __builtin_fabs(c[axis] - static_cast<double>(p.sphere[axis]));
+    }
+    const double grown = r + moved;
+    float rf = static_cast<float>(grown);  // inf past float's range
+    if (static_cast<double>(rf) < grown) rf = std::nextafter(rf, kInf);
+    p.sphere[3] = rf;
+    return p;
+  }
+  static Prim make(double x, double y, double z, double r) { return enclosing(x, y, z, r); }
   // The centre in lanes 0-2 (lane 3: the radius, which binning multiplies by 0).
   Lanes centre() const { return Lanes::load_aligned(sphere); }
   // The sphere's box, lo and hi, in lanes 0-2 (lane 3 is not used).
@@ -136,7 +160,8 @@ struct Prims {
 };
 
 // The box refit gives a sphere: the same arithmetic as the build's.
-inline Box sphere_box(float x, float y, float z, float r) {
+template <class S>
+Box sphere_box(S x, S y, S z, S r) {
   Box b;
   Prim::make(x, y, z, r).grow(b);
   return b;

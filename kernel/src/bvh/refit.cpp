@@ -12,9 +12,10 @@ namespace sphray::detail {
 namespace {
 
 // Copies sphere ids[slot] of v into every slot that holds one, for refit.
-void copy_spheres(BvhArrays& out, SphereView v) {
-  float* x = out.spheres.get();
-  float *y = x + out.slots, *z = y + out.slots, *r = z + out.slots;
+template <Scalar S>
+void copy_spheres(BasicBvhArrays<S>& out, BasicSphereView<S> v) {
+  S* x = out.spheres.get();
+  S *y = x + out.slots, *z = y + out.slots, *r = z + out.slots;
   parallel_for(out.slots, kBlock, [&](std::size_t slot) {
     const std::uint32_t id = out.ids[slot];
     if (id == kNoHit) return;
@@ -31,7 +32,8 @@ void copy_spheres(BvhArrays& out, SphereView v) {
 // written nodes: one pass over them, after a build or a refit. Every leaf box lies in the root
 // box, so the ratio is at most the leaf count; the clamp only keeps the cast to float defined
 // whatever the input.
-float measure_leaf_overlap(const BvhArrays& tree) {
+template <Scalar S>
+float measure_leaf_overlap(const BasicBvhArrays<S>& tree) {
   const std::size_t w = tree.width;
   double leaf_volume = 0.0;
   Box root;
@@ -49,7 +51,8 @@ float measure_leaf_overlap(const BvhArrays& tree) {
   return std::isfinite(overlap) ? static_cast<float>(std::min(overlap, 1e30)) : 0.0f;
 }
 
-void copy_masks(BvhArrays& tree, SphereView v) {
+template <Scalar S>
+void copy_masks(BasicBvhArrays<S>& tree, BasicSphereView<S> v) {
   if (v.mask == nullptr || tree.slots == 0) {
     tree.masks.reset();
     return;
@@ -63,13 +66,14 @@ void copy_masks(BvhArrays& tree, SphereView v) {
   }
 }
 
-void refit_bvh(BvhArrays& tree, SphereView v) {
+template <Scalar S>
+void refit_bvh(BasicBvhArrays<S>& tree, BasicSphereView<S> v) {
   if (v.count != tree.source_count)
     throw std::invalid_argument("sphray::SphereBVH::refit: the sphere count changed");
   if (tree.node_count == 0) return;
   copy_spheres(tree, v);
   copy_masks(tree, v);
-  const BvhData d = tree.data();
+  const BasicBvhData<S> d = tree.data();
   const std::size_t w = tree.width;
   // Children come after their parent, so a reverse sweep sees every child's boxes first.
   for (std::size_t n = tree.node_count; n-- > 0;) {
@@ -95,5 +99,12 @@ void refit_bvh(BvhArrays& tree, SphereView v) {
   }
   tree.leaf_overlap = measure_leaf_overlap(tree);
 }
+
+template float measure_leaf_overlap(const BasicBvhArrays<float>&);
+template float measure_leaf_overlap(const BasicBvhArrays<double>&);
+template void copy_masks(BasicBvhArrays<float>&, SphereView);
+template void copy_masks(BasicBvhArrays<double>&, SphereViewd);
+template void refit_bvh(BasicBvhArrays<float>&, SphereView);
+template void refit_bvh(BasicBvhArrays<double>&, SphereViewd);
 
 }  // namespace sphray::detail

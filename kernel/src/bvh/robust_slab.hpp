@@ -15,14 +15,23 @@ namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 // the box in exact arithmetic is never rejected. The walks widen each end of the interval by
 // 2 gamma(3) of its own magnitude (kExitScale for a far end >= 0, kEntryScale for a near end
 // >= 0, the other way round below 0), which holds for rays whose tmin is negative too.
-inline constexpr float kGamma3 = 3.0f * 0x1p-24f / (1.0f - 3.0f * 0x1p-24f);
-inline constexpr float kExitScale = 1.0f + 2.0f * kGamma3;
-inline constexpr float kEntryScale = 1.0f - 2.0f * kGamma3;
+// A double tree's walk computes the same distances in double from its float planes (exact in
+// double), so the same argument holds with u = 2^-53.
+template <class S>
+struct SlabScale {
+  static constexpr S kUnit = sizeof(S) == 4 ? S(0x1p-24) : S(0x1p-53);
+  static constexpr S kGamma3 = S(3) * kUnit / (S(1) - S(3) * kUnit);
+  static constexpr S kExit = S(1) + S(2) * kGamma3;
+  static constexpr S kEntry = S(1) - S(2) * kGamma3;
+};
+inline constexpr float kExitScale = SlabScale<float>::kExit;
+inline constexpr float kEntryScale = SlabScale<float>::kEntry;
 
 // A leaf's hit (t, id) replaces best when it is nearer, or as near with a lower id: the
 // contract's order. The interval is open: t == tmax is no hit, so a tie counts only against an
 // earlier hit.
-inline void keep_closer(Hit& best, float t, std::uint32_t id) {
+template <class S>
+void keep_closer(BasicHit<S>& best, S t, std::uint32_t id) {
   if (t < best.t || (t == best.t && best.id != kNoHit && id < best.id)) best = {t, id};
 }
 

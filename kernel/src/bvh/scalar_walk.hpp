@@ -12,9 +12,16 @@ namespace sphray::detail {
 /// Children per node and spheres per leaf of the trees the scalar kernel queries.
 inline constexpr std::size_t kScalarBvhWidth = 4;
 
-Hit scalar_bvh_intersect(const BvhData& bvh, const Ray& ray);
-bool scalar_bvh_occluded(const BvhData& bvh, const Ray& ray);
-void scalar_bvh_intersect_stream(const BvhData& bvh, const Ray* rays, Hit* hits, std::size_t n);
-void scalar_bvh_occluded_stream(const BvhData& bvh, const Ray* rays, bool* blocked, std::size_t n);
+/// For float and double trees (explicitly instantiated in scalar_walk.cpp).
+template <Scalar S>
+BasicHit<S> scalar_bvh_intersect(const BasicBvhData<S>& bvh, const BasicRay<S>& ray);
+template <Scalar S>
+bool scalar_bvh_occluded(const BasicBvhData<S>& bvh, const BasicRay<S>& ray);
+template <Scalar S>
+void scalar_bvh_intersect_stream(const BasicBvhData<S>& bvh, const BasicRay<S>* rays,
+                                 BasicHit<S>* hits, std::size_t n);
+template <Scalar S>
+void scalar_bvh_occluded_stream(const BasicBvhData<S>& bvh, const BasicRay<S>* rays, bool* blocked,
+                                std::size_t n);
 
 }  // namespace sphray::detail

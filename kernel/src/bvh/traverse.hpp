@@ -1,6 +1,7 @@
-// The SIMD walk's single-ray queries, written once over an xsimd architecture A: the walk
-// (walk.hpp: box_test.hpp per node) to each leaf the ray may reach, and there the leaf test
-// (leaf_test.hpp). Each per-ISA unit instantiates it with its own A (dispatch/entry_points.hpp).
+// The SIMD walk's single-ray queries, written once over an xsimd architecture A and the scalar S
+// of the tree's spheres and rays: the walk (walk.hpp: box_test.hpp per node) to each leaf the ray
+// may reach, and there the leaf test (leaf_test.hpp). Each per-ISA unit instantiates it with its
+// own A (dispatch/entry_points.hpp).
 #pragma once
 
 #include <cstddef>
@@ -18,20 +19,23 @@
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
-template <class A>
+template <class A, class S = float>
 struct BvhTraversal {
-  using Batch = SphereLanes<A>;
+  using Batch = SphereLanes<A, S>;
+  using Data = BasicBvhData<S>;
+  using Hits = BasicHit<S>;
+  using Rays = BasicRay<S>;
   using Floats = typename Batch::Floats;
   using Mask = typename Batch::Mask;
   static constexpr std::size_t kWidth = Batch::kWidth;
-  using Leaves = LeafTest<A>;
-  using Walks = TreeWalk<A>;
+  using Leaves = LeafTest<A, S>;
+  using Walks = TreeWalk<A, S>;
 
   // A leaf is one aligned batch of slots: its spheres, then never-hit padding. The leaf test's
   // form (see keep_closest) is the tree's: branch-free where leaf boxes overlap.
   // Trees over spheres with masks read them at the leaves (sphere_lanes.hpp, load_seen); the
   // walk itself is the same.
-  static Hit intersect(const BvhData& bvh, const Ray& ray) {
+  static Hits intersect(const Data& bvh, const Rays& ray) {
     const bool masked = bvh.spheres.mask != nullptr;
     if (QueryPlan::branch_free_leaves(bvh))
       return masked ? intersect<true, true>(bvh, ray) : intersect<true, false>(bvh, ray);
@@ -39,7 +43,7 @@ struct BvhTraversal {
   }
 
   template <bool kBranchFree, bool kMasked>
-  static Hit intersect(const BvhData& bvh, const Ray& ray) {
+  static Hits intersect(const Data& bvh, const Rays& ray) {
     return intersect_inlined<kBranchFree, kMasked>(bvh, ray);
   }
 
@@ -49,9 +53,9 @@ struct BvhTraversal {
   // the single-ray call slower (its four forms inlined into one function). Measured in
   // docs/decisions.md, "Rays as arrays per quantity (issue 12)".
   template <bool kBranchFree, bool kMasked>
-  SPHRAY_FORCE_INLINE static Hit intersect_inlined(const BvhData& bvh, const Ray& ray) {
+  SPHRAY_FORCE_INLINE static Hits intersect_inlined(const Data& bvh, const Rays& ray) {
     typename Batch::RaySetup s;
-    Hit best{ray.tmax, kNoHit};
+    Hits best{ray.tmax, kNoHit};
     if (!Batch::setup(ray, s)) return best;
     Walks::traverse(bvh, ray, best.t, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
       Leaves::template keep_closest<kBranchFree, kMasked>(bvh, s, first, best);
@@ -60,12 +64,12 @@ struct BvhTraversal {
     return best;
   }
 
-  static bool occluded(const BvhData& bvh, const Ray& ray) {
+  static bool occluded(const Data& bvh, const Rays& ray) {
     return bvh.spheres.mask != nullptr ? occluded<true>(bvh, ray) : occluded<false>(bvh, ray);
   }
 
   template <bool kMasked>
-  static bool occluded(const BvhData& bvh, const Ray& ray) {
+  static bool occluded(const Data& bvh, const Rays& ray) {
     typename Batch::RaySetup s;
     if (!Batch::setup(ray, s)) return false;
     bool hit = false;

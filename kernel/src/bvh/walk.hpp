@@ -1,5 +1,6 @@
-// One ray's way through the tree, written once over an xsimd architecture A: a leaf at a time,
-// so that the single-ray queries can walk one ray to its end and the stream several in turns.
+// One ray's way through the tree, written once over an xsimd architecture A and the ray's
+// scalar S: a leaf at a time, so that the single-ray queries can walk one ray to its end and the
+// stream several in turns.
 #pragma once
 
 #include <cstddef>
@@ -17,9 +18,10 @@
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
-template <class A>
+template <class A, class S = float>
 struct TreeWalk {
-  using Box = BoxTest<A>;
+  using Box = BoxTest<A, S>;
+  using Data = BasicBvhData<S>;
   using Floats = typename Box::Floats;
   static constexpr std::size_t kWidth = Box::kWidth;
   using Node = typename Box::Node;
@@ -37,13 +39,13 @@ struct TreeWalk {
     ChildRef ref;
     StackEntry stack[Box::kStackSize];
 
-    SPHRAY_FORCE_INLINE void start(const Ray& ray) {
+    SPHRAY_FORCE_INLINE void start(const BasicRay<S>& ray) {
       s = Box::node_setup(ray);
       top = 0;
       ref = ChildRef::node(0);  // the root
     }
 
-    SPHRAY_FORCE_INLINE bool descend(const BvhData& bvh, float best_t, std::size_t& first) {
+    SPHRAY_FORCE_INLINE bool descend(const Data& bvh, S best_t, std::size_t& first) {
       while (!ref.is_leaf()) {
         const Node node(bvh.nodes, ref.node_index(), kWidth);
         Floats tnear;
@@ -59,7 +61,7 @@ struct TreeWalk {
       return true;
     }
 
-    SPHRAY_FORCE_INLINE bool pop(float best_t) {
+    SPHRAY_FORCE_INLINE bool pop(S best_t) {
       if constexpr (!kOrdered) {  // a bound that never shrinks: every entry is within it
         if (top == 0) return false;
         ref = stack[--top].ref;
@@ -75,12 +77,12 @@ struct TreeWalk {
     }
 
     // The first leaf after start(), if any.
-    SPHRAY_FORCE_INLINE bool first_leaf(const BvhData& bvh, float best_t, std::size_t& first) {
+    SPHRAY_FORCE_INLINE bool first_leaf(const Data& bvh, S best_t, std::size_t& first) {
       return descend(bvh, best_t, first) || next_leaf(bvh, best_t, first);
     }
 
     // The leaf after the one last returned, if any.
-    SPHRAY_FORCE_INLINE bool next_leaf(const BvhData& bvh, float best_t, std::size_t& first) {
+    SPHRAY_FORCE_INLINE bool next_leaf(const Data& bvh, S best_t, std::size_t& first) {
       while (pop(best_t))
         if (descend(bvh, best_t, first)) return true;
       return false;
@@ -92,7 +94,7 @@ struct TreeWalk {
   // in any order (for a walk that reaches every leaf within a bound that never shrinks, where
   // the order changes nothing but the cost of sorting the children).
   template <bool kOrdered = true, class Leaf>
-  static void traverse(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf&& leaf) {
+  static void traverse(const Data& bvh, const BasicRay<S>& ray, const S& best_t, Leaf&& leaf) {
     if (bvh.node_count == 0) return;
     // A tree over at most kWidth spheres is one leaf, at slot 0: it is read directly, as brute
     // force reads a batch, without a test of the root's mostly empty child boxes.
@@ -107,7 +109,7 @@ struct TreeWalk {
   }
 
   template <bool kAhead, bool kOrdered, class Leaf>
-  static void walk(const BvhData& bvh, const Ray& ray, const float& best_t, Leaf& leaf) {
+  static void walk(const Data& bvh, const BasicRay<S>& ray, const S& best_t, Leaf& leaf) {
     Walk<kAhead, kOrdered> w;
     w.start(ray);
     std::size_t first;

@@ -65,22 +65,29 @@ struct EntryPoints {
   // A tree over so few spheres takes the scalar path too, so that it returns exactly what the
   // brute-force entries above return on the same spheres. A small tree, built flat, is brute
   // force on its own spheres (QueryPlan::brute_force_tree): slot i holds sphere i.
+  // The same plan for float and double trees.
   using Tree = BvhTraversal<A>;
-  static SphereView flat_spheres(const BvhData& bvh) {
-    SphereView v = bvh.spheres;  // padded to its slots, which are whole batches
+  template <class S>
+  static BasicSphereView<S> flat_spheres(const BasicBvhData<S>& bvh) {
+    BasicSphereView<S> v = bvh.spheres;  // padded to its slots, which are whole batches
     v.count = bvh.count;
     return v;
   }
-  static Hit bvh_intersect(const BvhData& bvh, const Ray& ray) {
+  template <class S>
+  static BasicHit<S> tree_intersect(const BasicBvhData<S>& bvh, const BasicRay<S>& ray) {
     if (QueryPlan::scalar(bvh.count)) return scalar_bvh_intersect(bvh, ray);
-    if (QueryPlan::brute_force_tree(bvh)) return Brute::intersect(flat_spheres(bvh), ray);
-    return Tree::intersect(bvh, ray);
+    if (QueryPlan::brute_force_tree(bvh))
+      return BruteForce<A, S>::intersect(flat_spheres(bvh), ray);
+    return BvhTraversal<A, S>::intersect(bvh, ray);
   }
-  static bool bvh_occluded(const BvhData& bvh, const Ray& ray) {
+  template <class S>
+  static bool tree_occluded(const BasicBvhData<S>& bvh, const BasicRay<S>& ray) {
     if (QueryPlan::scalar(bvh.count)) return scalar_bvh_occluded(bvh, ray);
-    if (QueryPlan::brute_force_tree(bvh)) return Brute::occluded(flat_spheres(bvh), ray);
-    return Tree::occluded(bvh, ray);
+    if (QueryPlan::brute_force_tree(bvh)) return BruteForce<A, S>::occluded(flat_spheres(bvh), ray);
+    return BvhTraversal<A, S>::occluded(bvh, ray);
   }
+  static Hit bvh_intersect(const BvhData& bvh, const Ray& ray) { return tree_intersect(bvh, ray); }
+  static bool bvh_occluded(const BvhData& bvh, const Ray& ray) { return tree_occluded(bvh, ray); }
   template <class Rays, class Hits>
   static void tree_stream(const BvhData& bvh, Rays rays, Hits hits, std::size_t n) {
     if (QueryPlan::scalar(bvh.count)) {
@@ -170,6 +177,25 @@ struct EntryPoints {
     BasicHitList<double> list(hits, exits, capacity);
     return AllHits<A, double>::intersect_all(v, ray, list);
   }
+
+  // The double tree: float's plan, rays one at a time (no packets or walks in turns yet).
+  using TreeD = BvhTraversal<A, double>;
+  static Hitd bvh_intersect_d(const BvhDatad& bvh, const Rayd& ray) {
+    return tree_intersect(bvh, ray);
+  }
+  static bool bvh_occluded_d(const BvhDatad& bvh, const Rayd& ray) {
+    return tree_occluded(bvh, ray);
+  }
+  static void bvh_intersect_stream_d(const BvhDatad& bvh, const Rayd* rays, Hitd* hits,
+                                     std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i)
+      hits[i] = tree_intersect(bvh, rays[i]);
+  }
+  static void bvh_occluded_stream_d(const BvhDatad& bvh, const Rayd* rays, bool* blocked,
+                                    std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i)
+      blocked[i] = tree_occluded(bvh, rays[i]);
+  }
 };
 
 template <class A>
@@ -205,7 +231,12 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::occluded_d,
           &E::intersect_stream_d,
           &E::occluded_stream_d,
-          &E::intersect_all_d};
+          &E::intersect_all_d,
+          E::TreeD::kWidth,
+          &E::bvh_intersect_d,
+          &E::bvh_occluded_d,
+          &E::bvh_intersect_stream_d,
+          &E::bvh_occluded_stream_d};
 }
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -14,7 +14,10 @@
 
 namespace sphray::detail {
 
-struct BvhData;      // bvh/bvh_data.hpp
+template <Scalar S>
+struct BasicBvhData;  // bvh/bvh_data.hpp
+using BvhData = BasicBvhData<float>;
+using BvhDatad = BasicBvhData<double>;
 struct IdCollector;  // point/id_collector.hpp
 
 /// The entry points of one instruction set. Same contract as query.hpp. Internal: tests and
@@ -81,6 +84,14 @@ struct EntryTable {
                             std::size_t count);
   std::size_t (*intersect_all_d)(SphereViewd spheres, const Rayd& ray, Hitd* hits, bool* exits,
                                  std::size_t capacity);
+  /// The SphereBVHd entries: trees of bvh_width_d children per node and doubles per leaf batch.
+  std::size_t bvh_width_d;
+  Hitd (*bvh_intersect_d)(const BvhDatad& bvh, const Rayd& ray);
+  bool (*bvh_occluded_d)(const BvhDatad& bvh, const Rayd& ray);
+  void (*bvh_intersect_stream_d)(const BvhDatad& bvh, const Rayd* rays, Hitd* hits,
+                                 std::size_t count);
+  void (*bvh_occluded_stream_d)(const BvhDatad& bvh, const Rayd* rays, bool* blocked,
+                                std::size_t count);
 };
 
 /// The kernel for isa, or nullptr if this build lacks it or this machine cannot run it.

@@ -19,8 +19,10 @@
 // Measured in docs/performance.md and docs/bvh.md; docs/architecture.md follows a ray through.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include "bvh/bvh_data.hpp"
 #include "simd/isa_namespace.hpp"
@@ -49,7 +51,8 @@ struct QueryPlan {
   // between 1.25 and 1.5, and there the branch-free test is faster on incoherent rays and within
   // the noise on coherent ones: hence 1.25, not 1.5 (docs/bvh.md, "Leaves"; the overlaps and
   // timings: docs/history.md, "Leaves").
-  static bool branch_free_leaves(const BvhData& bvh) {
+  template <Scalar S>
+  static bool branch_free_leaves(const BasicBvhData<S>& bvh) {
     return bvh.leaf_overlap >= kBvhBranchFreeOverlap;
   }
 
@@ -58,10 +61,12 @@ struct QueryPlan {
   // tnear >= 0. Nearly every ray is one (camera and scattered rays start at tmin = 0 or an
   // epsilon), and for them the box test (bvh/box_test.hpp) needs no NaN-ordered min/max chain
   // and no sign selects.
-  static bool ahead(const Ray& ray) {
-    constexpr float kNormal = 0x1p-126f;  // 1 / kNormal = 2^126 is finite
-    return ray.tmin >= 0.0f && __builtin_fabsf(ray.dir.x) >= kNormal &&
-           __builtin_fabsf(ray.dir.y) >= kNormal && __builtin_fabsf(ray.dir.z) >= kNormal;
+  // The same for double rays, with double's smallest normal.
+  template <Scalar S>
+  static bool ahead(const BasicRay<S>& ray) {
+    constexpr S kNormal = std::numeric_limits<S>::min();  // 1 / kNormal is finite
+    return ray.tmin >= S(0) && std::fabs(ray.dir.x) >= kNormal && std::fabs(ray.dir.y) >= kNormal &&
+           std::fabs(ray.dir.z) >= kNormal;
   }
 
   // 4. On a tree larger than the caches a scattered ray waits on memory at nearly every node,
@@ -108,7 +113,10 @@ struct QueryPlan {
   // brute force on random scenes and incoherent rays, on both widths, and is in leaves rather
   // than spheres for that reason (docs/decisions.md, "The tree's instruction set, small trees
   // and `sphray bench` (issue 19)"; docs/history.md, "Small trees").
-  static bool brute_force_tree(const BvhData& bvh) { return bvh.flat; }
+  template <Scalar S>
+  static bool brute_force_tree(const BasicBvhData<S>& bvh) {
+    return bvh.flat;
+  }
 
   // 6. A packet of coherent rays tests a node's children once for all its rays, as an interval
   // ray (bvh/packet.hpp): where the rays run nearly parallel and start close together, that

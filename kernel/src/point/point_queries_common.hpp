@@ -9,7 +9,10 @@
 
 namespace sphray::detail {
 
-struct BvhData;
+template <Scalar S>
+struct BasicBvhData;
+using BvhData = BasicBvhData<float>;
+using BvhDatad = BasicBvhData<double>;
 struct IdCollector;
 
 /// The Nearest for a kernel's answer best, whose sphere is at index slot of spheres: a miss

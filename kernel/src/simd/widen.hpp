@@ -1,7 +1,8 @@
 // A batch of floats as two batches of doubles (its low lanes, then its high ones) and back:
 // the surface maths (surface/surface_lanes.hpp) works in double where float would round the
-// normal or the front-face test too coarsely. Conversions are exact one way and round to
-// nearest the other, as static_cast does, so every instruction set gives the scalar code's bits.
+// normal or the front-face test too coarsely; a double tree reads its float boxes widened.
+// Conversions are exact one way and round to nearest the other, as static_cast does, so every
+// instruction set gives the scalar code's bits.
 //
 // xsimd 8.1 converts between float and double batches of one architecture only lane by lane
 // through memory; the x86 instruction sets have one instruction per half, used here. Other
@@ -52,6 +53,24 @@ struct Widen {
     for (std::size_t i = 0; i < lanes.size(); ++i)
       wide[i] = lanes[i];
     return {Doubles::load_aligned(wide.data()), Doubles::load_aligned(wide.data() + Doubles::size)};
+  }
+
+  // Doubles::size floats from p (any alignment), each widened: a row of a double tree's float
+  // box planes (bvh/box_test.hpp).
+  SPHRAY_FORCE_INLINE static Doubles load_widened(const float* p) {
+#if defined(__x86_64__) || defined(__i386__)
+    if constexpr (std::is_base_of_v<xsimd::avx512f, A>) {
+      return _mm512_cvtps_pd(_mm256_loadu_ps(p));
+    } else if constexpr (std::is_base_of_v<xsimd::avx, A>) {
+      return _mm256_cvtps_pd(_mm_loadu_ps(p));
+    } else if constexpr (std::is_base_of_v<xsimd::sse2, A>) {
+      return _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))));
+    }
+#endif
+    alignas(A::alignment()) std::array<double, Doubles::size> wide;
+    for (std::size_t i = 0; i < wide.size(); ++i)
+      wide[i] = p[i];
+    return Doubles::load_aligned(wide.data());
   }
 
   SPHRAY_FORCE_INLINE static Floats narrow(const Doubles& low, const Doubles& high) {

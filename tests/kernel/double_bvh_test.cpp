@@ -1,0 +1,211 @@
+// The tree in double precision (SphereBVHd): on every instruction set, each query against brute
+// force in double on the same spheres, bit for bit, where the tree's float boxes are coarsest
+// (millimetre spheres at 100 km), for spheres float cannot hold at all, for the contract's
+// invalid inputs, and after a refit.
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "double_support.hpp"
+#include "test_support.hpp"
+
+namespace sphray {
+namespace {
+
+using namespace test::doubles;
+
+// The tree's answers to ray against brute force's in double (the scalar reference), bit for
+// bit; returns whether the ray hit.
+bool expect_tree_answers(const SphereBVHd& tree, SphereViewd v, const Rayd& ray) {
+  const Hitd want = scalar::intersect(v, ray);
+  const Hitd got = intersect(tree, ray);
+  EXPECT_TRUE(same_bits(want, got))
+      << isa_name(tree.isa()) << ": want " << describe(want) << ", got " << describe(got);
+  EXPECT_EQ(occluded(tree, ray), scalar::occluded(v, ray)) << isa_name(tree.isa());
+  return want.found();
+}
+
+// Trees of 0 to 3000 spheres (flat ones answered by brute force, walked ones with each leaf
+// test), at the origin and at 1e5, unmasked and masked.
+TEST(DoubleTree, EveryKernelGivesBruteForceBits) {
+  std::mt19937 rng(3710);
+  const std::size_t counts[] = {0, 1, 2, 5, 9, 33, 100, 600, 3000};
+  const Vec3d places[] = {{0, 0, 0}, {1e5, -2e5, 3e4}};
+  for (const EntryTable* k : test::runnable_kernels()) {
+    std::size_t hits = 0, compared = 0;
+    bool branch_free = false, branching = false;
+    for (const std::size_t n : counts) {
+      for (const Vec3d at : places) {
+        // Dense scenes (overlapping leaves: the branch-free leaf test) and sparse ones.
+        for (const double density : {1.0, 0.15}) {
+          const double scale = density * 6.0 / std::cbrt(static_cast<double>(n) + 1.0);
+          const DoubleSpheres scene = random_spheres(rng, n, at, scale);
+          for (const bool masked : {false, true}) {
+            const SphereViewd v = scene.view(masked);
+            const SphereBVHd tree(v, k->isa);
+            ASSERT_EQ(tree.size(), n);
+            const auto& data = detail::BvhAccess::data(tree);
+            if (!data.flat && data.count > 1) {
+              (data.leaf_overlap >= detail::kBvhBranchFreeOverlap ? branch_free : branching) = true;
+            }
+            for (std::size_t i = 0; i < test::scaled(200); ++i) {
+              Rayd ray = random_ray(rng, at, density);
+              if (masked) ray.mask = static_cast<std::uint32_t>(rng());
+              hits += expect_tree_answers(tree, v, ray) ? 1 : 0;
+              ++compared;
+              if (HasFailure()) return;
+            }
+          }
+        }
+      }
+    }
+    EXPECT_TRUE(branch_free && branching) << test::name_of(k);
+    EXPECT_GT(hits, compared / 10) << test::name_of(k);
+    EXPECT_LT(hits, compared) << test::name_of(k);
+  }
+}
+
+// Where a double tree's float boxes are coarsest: 2000 spheres of 1 mm radius, 2.5 mm apart
+// on average, 100 km from the origin, where float's spacing is 8 mm. The boxes, rounded
+// outward, overlap; the answers stay exact.
+TEST(DoubleTree, MillimetresAtAHundredKilometres) {
+  std::mt19937 rng(3711);
+  const Vec3d at{1e5, -1e5, 5e4};
+  DoubleSpheres scene;
+  for (std::size_t i = 0; i < 2000; ++i)
+    scene.add(at + 0.015 * in_box(rng, 1.0), 1e-3 * uniform(rng, 0.5, 1.0));
+  const SphereViewd v = scene.view();
+  for (const EntryTable* k : test::runnable_kernels()) {
+    const SphereBVHd tree(v, k->isa);
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < test::scaled(2000); ++i) {
+      const Vec3d from = at + 0.1 * normalize(in_box(rng, 1.0));
+      const Vec3d to = at + 0.012 * in_box(rng, 1.0);
+      hits += expect_tree_answers(tree, v, Rayd{from, to - from}) ? 1 : 0;
+      if (HasFailure()) return;
+    }
+    EXPECT_GT(hits, test::scaled(2000) / 4) << test::name_of(k);
+  }
+}
+
+// Spheres that are valid in double but beyond float: a centre at 1e100, a radius of 2^-500.
+// Their float boxes are unbounded or as small as float goes; both are hit, among enough other
+// spheres that the tree is walked.
+TEST(DoubleTree, SpheresBeyondFloatsRangeAreHit) {
+  std::mt19937 rng(3712);
+  DoubleSpheres scene;
+  for (std::size_t i = 0; i < 500; ++i)
+    scene.add(in_box(rng, 100.0) + Vec3d{0, 0, 300}, 1.0);
+  const std::uint32_t far_id = static_cast<std::uint32_t>(scene.size());
+  scene.add({0, 0, -1e100}, 1e99);
+  const std::uint32_t tiny_id = static_cast<std::uint32_t>(scene.size());
+  scene.add({0.5, 0.25, 0}, 0x1p-500);
+  const SphereViewd v = scene.view();
+  const Rayd to_far{{0, 0, 0}, {0, 0, -1}};
+  const Rayd to_tiny{{0.5, 0.25, -1}, {0, 0, 1}};
+  for (const EntryTable* k : test::runnable_kernels()) {
+    const SphereBVHd tree(v, k->isa);
+    EXPECT_EQ(intersect(tree, to_far).id, far_id) << test::name_of(k);
+    EXPECT_EQ(intersect(tree, to_tiny).id, tiny_id) << test::name_of(k);
+    expect_tree_answers(tree, v, to_far);
+    expect_tree_answers(tree, v, to_tiny);
+    for (std::size_t i = 0; i < test::scaled(300); ++i)
+      expect_tree_answers(tree, v, random_ray(rng, {0, 0, 200}, 10.0));
+  }
+}
+
+// The contract's invalid spheres among valid ones never widen a box or get hit, and invalid
+// rays miss with t == tmax, through the walk.
+TEST(DoubleTree, InvalidRaysAndSpheresMiss) {
+  std::mt19937 rng(3713);
+  DoubleSpheres scene;
+  const double bad_radii[] = {0.0, -1.0, kNaN, kInf, 0x1p-512, 0x1p512};
+  for (std::size_t i = 0; i < 400; ++i) {
+    if (i % 5 == 0)
+      scene.add(i % 10 == 0 ? Vec3d{kNaN, 0, 0} : Vec3d{0, 0, 0}, bad_radii[i % 6]);
+    else
+      scene.add(in_box(rng, 20.0), 1.0);
+  }
+  const SphereViewd v = scene.view();
+  const Rayd bad_rays[] = {
+      {{kNaN, 0, -5}, {0, 0, 1}},         {{0, 0, -5}, {0, 0, 0}},
+      {{0, 0, -5}, {0, 0, 1e-170}},       {{0, 0, -5}, {0, 0, 1}, 2.0, 1.0},
+      {{0, 0, -5}, {0, 0, 1}, 0.0, kNaN}, {{0, 0, -5}, {0, 0, 1}, 0.0, kInf, 0u},
+  };
+  for (const EntryTable* k : test::runnable_kernels()) {
+    const SphereBVHd tree(v, k->isa);
+    for (const Rayd& ray : bad_rays) {
+      const Hitd hit = intersect(tree, ray);
+      EXPECT_FALSE(hit.found()) << test::name_of(k);
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(hit.t), std::bit_cast<std::uint64_t>(ray.tmax));
+      EXPECT_FALSE(occluded(tree, ray)) << test::name_of(k);
+    }
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < test::scaled(500); ++i)
+      hits += expect_tree_answers(tree, v, random_ray(rng, {0, 0, 0}, 2.0)) ? 1 : 0;
+    EXPECT_GT(hits, 0u) << test::name_of(k);
+  }
+}
+
+// Equal spheres: the lower id wins, however the leaves order them.
+TEST(DoubleTree, TiesGoToTheLowerId) {
+  DoubleSpheres scene;
+  std::mt19937 rng(3714);
+  for (std::size_t i = 0; i < 300; ++i)
+    scene.add(in_box(rng, 30.0), 0.5);
+  for (std::size_t i = 0; i < 20; ++i)
+    scene.add({0, 0, 0}, 1.0);
+  const SphereViewd v = scene.view();
+  for (const EntryTable* k : test::runnable_kernels()) {
+    const SphereBVHd tree(v, k->isa);
+    const Hitd hit = intersect(tree, Rayd{{0, 0, -0.5}, {0, 0, 1}});
+    EXPECT_EQ(hit.id, 300u) << test::name_of(k);
+    EXPECT_EQ(hit.t, 1.5) << test::name_of(k);
+  }
+}
+
+// Refit takes moved spheres and answers as a fresh brute force on them; a different count
+// throws, and a moved-from tree misses every ray.
+TEST(DoubleTree, RefitAndMove) {
+  std::mt19937 rng(3715);
+  DoubleSpheres scene = random_spheres(rng, 700, {1e4, 0, 0}, 0.5);
+  SphereBVHd tree(scene.view());
+  for (std::size_t s = 0; s < 4; ++s)
+    for (std::size_t i = 0; i < scene.size(); ++i)
+      scene.storage[s][DoubleSpheres::kOffset + i] += s == 3 ? 0.1 : uniform(rng, -1.0, 1.0);
+  tree.refit(scene.view());
+  for (std::size_t i = 0; i < test::scaled(500); ++i)
+    expect_tree_answers(tree, scene.view(), random_ray(rng, {1e4, 0, 0}, 0.5));
+  const DoubleSpheres other = random_spheres(rng, 5, {0, 0, 0}, 1.0);
+  EXPECT_THROW(tree.refit(other.view()), std::invalid_argument);
+  SphereBVHd moved = std::move(tree);
+  const Rayd ray{{1e4, 0, -50}, {0, 0, 1}};
+  EXPECT_TRUE(intersect(moved, ray).found());
+  EXPECT_FALSE(intersect(tree, ray).found());  // NOLINT(bugprone-use-after-move): specified
+  EXPECT_EQ(tree.size(), 0u);
+}
+
+TEST(DoubleTree, StreamsAnswerAsSingleQueriesAndCheckTheirSizes) {
+  std::mt19937 rng(3716);
+  const DoubleSpheres scene = random_spheres(rng, 900, {0, 0, 0}, 0.7);
+  const SphereBVHd tree(scene.view());
+  std::vector<Rayd> rays(257);
+  for (Rayd& r : rays)
+    r = random_ray(rng, {0, 0, 0}, 1.0);
+  std::vector<Hitd> hits(rays.size());
+  std::unique_ptr<bool[]> blocked(new bool[rays.size()]);
+  intersect(tree, rays, hits);
+  occluded(tree, rays, std::span(blocked.get(), rays.size()));
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    EXPECT_TRUE(same_bits(hits[i], scalar::intersect(scene.view(), rays[i])));
+    EXPECT_EQ(blocked[i], scalar::occluded(scene.view(), rays[i]));
+  }
+  EXPECT_THROW(intersect(tree, rays, std::span(hits).first(3)), std::length_error);
+  EXPECT_THROW(occluded(tree, rays, std::span(blocked.get(), 3)), std::length_error);
+}
+
+}  // namespace
+}  // namespace sphray
