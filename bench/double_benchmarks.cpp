@@ -3,9 +3,11 @@
 // outside the timed loop), and Embree's rtcIntersect1 (float) on the tree's. Each precision's
 // hits are checked against its own scalar reference first.
 //   double/<scene>/<kind>/<isa>/<float|double>          brute force
-//   double-tree/<scene>/<kind>/<isa>/<float|double>     SphereBVH, SphereBVHd
+//   double-tree/<scene>/<kind>/<isa>/<float|double>     SphereBVH, SphereBVHd (isa auto: as
+//                                                        built without one)
 //   double-tree/<scene>/<kind>/embree/float             rtcIntersect1, one thread
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -80,12 +82,13 @@ void run(benchmark::State& state, std::string_view scene, RayKind kind, const En
   time_queries(state, d.view(), d.rays, k.intersect_d);
 }
 
-// The trees, built for instruction set isa outside the timed loop, one query per ray.
-void run_tree(benchmark::State& state, std::string_view scene, RayKind kind, Isa isa,
+// The trees, built outside the timed loop for instruction set isa, or without one (the
+// instruction set bvh_isa() picks: what a caller gets), one query per ray.
+void run_tree(benchmark::State& state, std::string_view scene, RayKind kind, std::optional<Isa> isa,
               bool in_double) {
   const Workload& w = workload(scene, kind);
   if (!in_double) {
-    const SphereBVH tree(w.view(), isa);
+    const SphereBVH tree = isa ? SphereBVH(w.view(), *isa) : SphereBVH(w.view());
     const auto query = [&tree](SphereView, const Ray& ray) { return intersect(tree, ray); };
     if (!agrees(w.view(), w.rays, query,
                 static_cast<Hit (*)(SphereView, const Ray&)>(&scalar::intersect)))
@@ -93,7 +96,7 @@ void run_tree(benchmark::State& state, std::string_view scene, RayKind kind, Isa
     return time_queries(state, w.view(), w.rays, query);
   }
   const DoubleWorkload d(w, true);
-  const SphereBVHd tree(d.view(), isa);
+  const SphereBVHd tree = isa ? SphereBVHd(d.view(), *isa) : SphereBVHd(d.view());
   const auto query = [&tree](SphereViewd, const Rayd& ray) { return intersect(tree, ray); };
   if (!agrees(d.view(), d.rays, query,
               static_cast<Hitd (*)(SphereViewd, const Rayd&)>(&scalar::intersect)))
@@ -152,10 +155,13 @@ void register_double_benchmarks() {
     for (const RayKind kind : {RayKind::coherent, RayKind::incoherent}) {
       const std::string prefix =
           "double-tree/" + std::string(scene) + "/" + std::string(ray_kind_name(kind)) + "/";
-      for (const Isa isa : supported_isas()) {
+      std::vector<std::optional<Isa>> isas{std::nullopt};
+      for (const Isa isa : supported_isas())
+        isas.emplace_back(isa);
+      for (const std::optional<Isa> isa : isas) {
         for (const bool in_double : {false, true}) {
-          const std::string name =
-              prefix + std::string(isa_name(isa)) + (in_double ? "/double" : "/float");
+          const std::string name = prefix + std::string(isa ? isa_name(*isa) : "auto") +
+                                   (in_double ? "/double" : "/float");
           benchmark::RegisterBenchmark(name.c_str(),
                                        [scene, kind, isa, in_double](benchmark::State& s) {
                                          run_tree(s, scene, kind, isa, in_double);

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""Double precision against float: rays per second of each instruction set's brute force, one
-query per ray, on the same scenes and rays in one run of sphray_bench (its double/ rows), and
-the ratio double/float. Prints the markdown table of docs/double.md.
+"""Double precision against float: rays per second of each instruction set's brute force and
+tree, one query per ray, on the same scenes and rays in one run of sphray_bench (its double/ and
+double-tree/ rows), the ratio double/float, and for the trees the ratio to Embree's float
+rtcIntersect1 on one thread. Prints the markdown tables of docs/double.md.
 
 Run from the repository root after a release build:
     /usr/bin/python3 bench/double_vs_float.py [--bench build/release/bench/sphray_bench]
@@ -18,7 +19,7 @@ def main():
     ap.add_argument("--min-time", default="0.3")
     args = ap.parse_args()
     with tempfile.NamedTemporaryFile(suffix=".json") as out:
-        subprocess.run([args.bench, "--benchmark_filter=^double/",
+        subprocess.run([args.bench, "--benchmark_filter=^double(-tree)?/",
                         f"--benchmark_min_time={args.min_time}",
                         f"--benchmark_out={out.name}", "--benchmark_out_format=json"],
                        check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -27,15 +28,27 @@ def main():
     for b in report["benchmarks"]:
         if "error_occurred" in b and b["error_occurred"]:
             raise SystemExit(f"{b['name']}: {b.get('error_message')}")
-        _, scene, kind, isa, precision = b["name"].split("/")[:5]
-        rates[(scene, kind, isa, precision)] = b["items_per_second"] / 1e6
+        group, scene, kind, isa, precision = b["name"].split("/")[:5]
+        rates[(group, scene, kind, isa, precision)] = b["items_per_second"] / 1e6
+    print("Brute force:\n")
     print("| scene | rays | instruction set | float Mrays/s | double Mrays/s | double/float |")
     print("|---|---|---|---:|---:|---:|")
-    for (scene, kind, isa, precision), f in rates.items():
-        if precision != "float":
+    for (group, scene, kind, isa, precision), f in rates.items():
+        if group != "double" or precision != "float":
             continue
-        d = rates[(scene, kind, isa, "double")]
+        d = rates[(group, scene, kind, isa, "double")]
         print(f"| {scene} | {kind} | {isa} | {f:.2f} | {d:.2f} | {d / f:.2f}x |")
+    print("\nTrees (auto: the instruction set a tree built without one gets):\n")
+    print("| scene | rays | instruction set | float Mrays/s | double Mrays/s | double/float "
+          "| Embree Mrays/s | double/Embree |")
+    print("|---|---|---|---:|---:|---:|---:|---:|")
+    for (group, scene, kind, isa, precision), f in rates.items():
+        if group != "double-tree" or precision != "float" or isa == "embree":
+            continue
+        d = rates[(group, scene, kind, isa, "double")]
+        e = rates.get((group, scene, kind, "embree", "float"))
+        embree = f"| {e:.2f} | {d / e:.2f}x |" if e else "| - | - |"
+        print(f"| {scene} | {kind} | {isa} | {f:.2f} | {d:.2f} | {d / f:.2f}x {embree}")
 
 
 if __name__ == "__main__":

@@ -13,7 +13,8 @@
 //      instruction set"), and pass a check against the exact geometry (long double, on the same
 //      float inputs) with a float error bound (docs/robustness.md, "What agree means");
 //   4. in double (docs/double.md), on the same inputs scaled towards double's edges: rules 1
-//      and 2 for the brute force and surface(), and the double scalar reference's answer.
+//      and 2 for the brute force and surface(), the double scalar reference's answer, and the
+//      double tree's (built and refitted) equal to brute force's bit for bit.
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -516,6 +517,28 @@ void check_double_kernel(const EntryTable& k, const std::vector<Rayd>& rays,
   }
 }
 
+// The double tree over the whole view, built for k's instruction set and refitted: brute
+// force's answer in double, bit for bit. Its float boxes are rounded outward from every double
+// sphere, so it can lose no sphere brute force hits, and its leaves compute the same roots.
+void check_double_bvh(const EntryTable& k, const std::vector<Rayd>& rays, const SphereViewd& view,
+                      const SphereBVHd& bvh) {
+  const char* name = isa_name(k.isa).data();
+  std::vector<Hitd> stream(rays.size());
+  intersect(bvh, rays, stream);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Hitd tree = intersect(bvh, rays[i]);
+    if (!equal(tree, k.intersect_d(view, rays[i])))
+      fail("double: the BVH differs from brute force", i, view.count, name);
+    if (!equal(tree, stream[i]))
+      fail("double: the BVH stream differs from its per-ray query", i, view.count, name);
+    if (occluded(bvh, rays[i]) != tree.found())
+      fail("double: the BVH's occluded() differs from its intersect()", i, view.count, name);
+    if (count_hits(bvh, rays[i]) != k.intersect_all_d(view, rays[i], nullptr, nullptr, 0))
+      fail("double: the BVH's count_hits() differs from brute force's", i, view.count, name);
+    ++tally.bvh_answers;
+  }
+}
+
 void check_double(const Input& in, const std::vector<const EntryTable*>& kernels) {
   const int e = in.position_exponent, ed = in.direction_exponent;
   const auto scaled = [](const std::vector<float>& from, int exponent) {
@@ -548,6 +571,18 @@ void check_double(const Input& in, const std::vector<const EntryTable*>& kernels
                                      columns[0].empty() ? NAN : columns[0].back());
     for (const EntryTable* k : kernels)
       check_double_kernel(*k, rays, padded.suffix(n, padding));
+  }
+  const auto backwards = [](const std::vector<double>& v) {
+    return std::vector<double>(v.rbegin(), v.rend());
+  };
+  const TightArrays<double>::Columns reversed{backwards(columns[0]), backwards(columns[1]),
+                                              backwards(columns[2]), backwards(columns[3])};
+  const TightArrays<double> tight_reversed(reversed, pad_r, in.misalign % 8, 0, 0.0);
+  for (const EntryTable* k : kernels) {
+    SphereBVHd bvh(tight.suffix(n), k->isa, BvhBuildOptions{1});
+    check_double_bvh(*k, rays, tight.suffix(n), bvh);
+    bvh.refit(tight_reversed.suffix(n));
+    check_double_bvh(*k, rays, tight_reversed.suffix(n), bvh);
   }
 }
 

@@ -1,7 +1,8 @@
-// The tree in double precision (SphereBVHd): on every instruction set, each query against brute
-// force in double on the same spheres, bit for bit, where the tree's float boxes are coarsest
-// (millimetre spheres at 100 km), for spheres float cannot hold at all, for the contract's
-// invalid inputs, and after a refit.
+// The tree in double precision (SphereBVHd): on every instruction set, each query (closest, any
+// and every crossing) against brute force in double on the same spheres, bit for bit, where the
+// tree's float boxes are coarsest (millimetre spheres at 100 km), for spheres float cannot hold at
+// all, for the contract's invalid inputs, and after a refit.
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -39,10 +40,13 @@ TEST(DoubleTree, EveryKernelGivesBruteForceBits) {
     bool branch_free = false, branching = false;
     for (const std::size_t n : counts) {
       for (const Vec3d at : places) {
-        // Dense scenes (overlapping leaves: the branch-free leaf test) and sparse ones.
-        for (const double density : {1.0, 0.15}) {
-          const double scale = density * 6.0 / std::cbrt(static_cast<double>(n) + 1.0);
-          const DoubleSpheres scene = random_spheres(rng, n, at, scale);
+        // Dense scenes (overlapping leaves: the branch-free leaf test) and sparse ones, their
+        // radii a tenth.
+        for (const double shrink : {1.0, 0.1}) {
+          const double scale = 6.0 / std::cbrt(static_cast<double>(n) + 1.0);
+          DoubleSpheres scene = random_spheres(rng, n, at, scale);
+          for (std::size_t i = 0; i < n; ++i)
+            scene.storage[3][DoubleSpheres::kOffset + i] *= shrink;
           for (const bool masked : {false, true}) {
             const SphereViewd v = scene.view(masked);
             const SphereBVHd tree(v, k->isa);
@@ -52,7 +56,7 @@ TEST(DoubleTree, EveryKernelGivesBruteForceBits) {
               (data.leaf_overlap >= detail::kBvhBranchFreeOverlap ? branch_free : branching) = true;
             }
             for (std::size_t i = 0; i < test::scaled(200); ++i) {
-              Rayd ray = random_ray(rng, at, density);
+              Rayd ray = random_ray(rng, at, 1.0);
               if (masked) ray.mask = static_cast<std::uint32_t>(rng());
               hits += expect_tree_answers(tree, v, ray) ? 1 : 0;
               ++compared;
@@ -63,7 +67,7 @@ TEST(DoubleTree, EveryKernelGivesBruteForceBits) {
       }
     }
     EXPECT_TRUE(branch_free && branching) << test::name_of(k);
-    EXPECT_GT(hits, compared / 10) << test::name_of(k);
+    EXPECT_GT(hits, compared / 20) << test::name_of(k);
     EXPECT_LT(hits, compared) << test::name_of(k);
   }
 }
@@ -186,6 +190,48 @@ TEST(DoubleTree, RefitAndMove) {
   EXPECT_TRUE(intersect(moved, ray).found());
   EXPECT_FALSE(intersect(tree, ray).found());  // NOLINT(bugprone-use-after-move): specified
   EXPECT_EQ(tree.size(), 0u);
+}
+
+// Every crossing through the tree: the list, its exits and the total against brute force's
+// double reference, bit for bit, at capacities from none to more than there are; the nearest
+// crossings alone as the list's first ones.
+TEST(DoubleTree, EveryCrossingAndTheNearestGiveBruteForceBits) {
+  std::mt19937 rng(3717);
+  std::size_t crossings = 0;
+  for (const EntryTable* k : test::runnable_kernels()) {
+    for (const std::size_t n : {1, 9, 300, 2000}) {
+      const DoubleSpheres scene = random_spheres(rng, n, {1e4, 0, -1e4}, 1.5);
+      for (const bool masked : {false, true}) {
+        const SphereViewd v = scene.view(masked);
+        const SphereBVHd tree(v, k->isa);
+        for (std::size_t i = 0; i < test::scaled(100); ++i) {
+          Rayd ray = random_ray(rng, {1e4, 0, -1e4}, 1.0);
+          if (masked) ray.mask = static_cast<std::uint32_t>(rng());
+          for (const std::size_t capacity : {0, 1, 3, 64}) {
+            std::vector<Hitd> want(capacity), got(capacity), nearest(capacity);
+            std::vector<char> want_exits(capacity + 1), got_exits(capacity + 1),
+                nearest_exits(capacity + 1);
+            const auto flags = [capacity](std::vector<char>& f) {
+              return std::span(reinterpret_cast<bool*>(f.data()), capacity);
+            };
+            const std::size_t total = scalar::intersect_all(v, ray, want, flags(want_exits));
+            ASSERT_EQ(intersect_all(tree, ray, got, flags(got_exits)), total) << test::name_of(k);
+            ASSERT_EQ(count_hits(tree, ray), total) << test::name_of(k);
+            const std::size_t kept = intersect_nearest(tree, ray, nearest, flags(nearest_exits));
+            ASSERT_EQ(kept, std::min(capacity, total)) << test::name_of(k);
+            for (std::size_t j = 0; j < kept; ++j) {
+              ASSERT_TRUE(same_bits(want[j], got[j])) << test::name_of(k) << " crossing " << j;
+              ASSERT_TRUE(same_bits(want[j], nearest[j])) << test::name_of(k) << " nearest " << j;
+              ASSERT_EQ(want_exits[j], got_exits[j]) << test::name_of(k);
+              ASSERT_EQ(want_exits[j], nearest_exits[j]) << test::name_of(k);
+            }
+            crossings += capacity == 0 ? total : 0;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(crossings, 1000u);
 }
 
 TEST(DoubleTree, StreamsAnswerAsSingleQueriesAndCheckTheirSizes) {

@@ -75,10 +75,18 @@ SPHRAY_API void intersect_nearest(const SphereBVH& bvh, std::span<const Ray> ray
                                   std::span<Hit> out, std::size_t per_ray,
                                   std::span<std::size_t> counts);
 
-/// Every crossing in double (docs/double.md), by brute force: the same contract and order.
+/// Every crossing in double (docs/double.md), by brute force and through a SphereBVHd: the same
+/// contract and order as in float.
 SPHRAY_API std::size_t intersect_all(SphereViewd spheres, const Rayd& ray, std::span<Hitd> out,
                                      std::span<bool> exits = {});
 SPHRAY_API std::size_t count_hits(SphereViewd spheres, const Rayd& ray);
+SPHRAY_API std::size_t intersect_nearest(SphereViewd spheres, const Rayd& ray, std::span<Hitd> out,
+                                         std::span<bool> exits = {});
+SPHRAY_API std::size_t intersect_all(const SphereBVHd& bvh, const Rayd& ray, std::span<Hitd> out,
+                                     std::span<bool> exits = {});
+SPHRAY_API std::size_t count_hits(const SphereBVHd& bvh, const Rayd& ray);
+SPHRAY_API std::size_t intersect_nearest(const SphereBVHd& bvh, const Rayd& ray,
+                                         std::span<Hitd> out, std::span<bool> exits = {});
 
 namespace scalar {
 /// The reference implementation, one sphere at a time.

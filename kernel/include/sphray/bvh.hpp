@@ -11,9 +11,10 @@
 //   ...  // spheres moved, same count:
 //   bvh.refit(spheres.view());
 //
-// A node holds as many children as one SIMD batch has lanes, and a leaf as many spheres: the
-// tree is laid out for one instruction set, bvh_isa() unless another is given, and queried
-// with that set's kernel. Queries are const and thread-safe; build and refit are not queries.
+// A node holds as many children as one SIMD batch of floats has lanes, and a leaf as many
+// spheres (a double tree too: its nodes are a float tree's, docs/double.md): the tree is laid
+// out for one instruction set, bvh_isa() unless another is given, and queried with that set's
+// kernel. Queries are const and thread-safe; build and refit are not queries.
 #pragma once
 
 #include <cstddef>
@@ -68,9 +69,9 @@ class SPHRAY_API BasicSphereBVH {
   /// An empty tree (no spheres), for the active instruction set.
   BasicSphereBVH();
   /// Builds over spheres for the active instruction set. Throws std::length_error when the
-  /// tree's sphere slots would reach 2^31: each leaf takes a whole batch of W slots (W the
-  /// instruction set's width in S, 16 floats or 8 doubles for AVX-512) however few spheres it
-  /// holds, so the limit is met before 2^31 spheres. Below 2^31 / W spheres (2^27 floats with
+  /// tree's sphere slots would reach 2^31: each leaf takes W slots (W the instruction set's
+  /// float batch width, 16 for AVX-512, in float and double trees alike) however few spheres it
+  /// holds, so the limit is met before 2^31 spheres. Below 2^31 / W spheres (2^27 with
   /// AVX-512, 2^28 with AVX2) a build never meets it; above, it depends on how full the leaves
   /// come out.
   explicit BasicSphereBVH(View spheres, BvhBuildOptions options = {});

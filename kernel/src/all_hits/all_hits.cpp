@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <type_traits>
 
 #include "bvh/bvh_data.hpp"
 #include "dispatch/entry_table.hpp"
@@ -18,6 +19,36 @@ bool* exit_flags(std::span<HitS> out, std::span<bool> exits) {
   if (exits.size() != out.size())
     throw std::length_error("sphray::intersect_all: hits and exits differ in size");
   return exits.data();
+}
+
+// Of an entry's float and double forms, the one for S.
+template <Scalar S, class Float, class Double>
+auto in_precision(Float float_entry, Double double_entry) {
+  if constexpr (std::is_same_v<S, float>)
+    return float_entry;
+  else
+    return double_entry;
+}
+
+template <Scalar S>
+std::size_t tree_all(const BasicSphereBVH<S>& bvh, const BasicRay<S>& ray,
+                     std::span<BasicHit<S>> out, std::span<bool> exits) {
+  bool* flags = exit_flags(out, exits);
+  using A = detail::BvhAccess;
+  const detail::EntryTable& e = A::entries(bvh);
+  return in_precision<S>(e.bvh_intersect_all, e.bvh_intersect_all_d)(A::data(bvh), ray, out.data(),
+                                                                     flags, out.size());
+}
+
+template <Scalar S>
+std::size_t tree_nearest(const BasicSphereBVH<S>& bvh, const BasicRay<S>& ray,
+                         std::span<BasicHit<S>> out, std::span<bool> exits) {
+  bool* flags = exit_flags(out, exits);
+  if (out.empty()) return 0;
+  using A = detail::BvhAccess;
+  const detail::EntryTable& e = A::entries(bvh);
+  return in_precision<S>(e.bvh_intersect_nearest, e.bvh_intersect_nearest_d)(
+      A::data(bvh), ray, out.data(), flags, out.size());
 }
 
 }  // namespace
@@ -49,9 +80,16 @@ std::size_t count_hits(SphereView spheres, const Ray& ray) {
 
 std::size_t intersect_all(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out,
                           std::span<bool> exits) {
-  bool* flags = exit_flags(out, exits);
-  using A = detail::BvhAccess;
-  return A::entries(bvh).bvh_intersect_all(A::data(bvh), ray, out.data(), flags, out.size());
+  return tree_all(bvh, ray, out, exits);
+}
+
+std::size_t intersect_all(const SphereBVHd& bvh, const Rayd& ray, std::span<Hitd> out,
+                          std::span<bool> exits) {
+  return tree_all(bvh, ray, out, exits);
+}
+
+std::size_t count_hits(const SphereBVHd& bvh, const Rayd& ray) {
+  return tree_all(bvh, ray, {}, {});
 }
 
 std::size_t intersect_all(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out) {
@@ -74,10 +112,17 @@ std::size_t intersect_nearest(SphereView spheres, const Ray& ray, std::span<Hit>
 
 std::size_t intersect_nearest(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out,
                               std::span<bool> exits) {
-  bool* flags = exit_flags(out, exits);
-  if (out.empty()) return 0;
-  using A = detail::BvhAccess;
-  return A::entries(bvh).bvh_intersect_nearest(A::data(bvh), ray, out.data(), flags, out.size());
+  return tree_nearest(bvh, ray, out, exits);
+}
+
+std::size_t intersect_nearest(const SphereBVHd& bvh, const Rayd& ray, std::span<Hitd> out,
+                              std::span<bool> exits) {
+  return tree_nearest(bvh, ray, out, exits);
+}
+
+std::size_t intersect_nearest(SphereViewd spheres, const Rayd& ray, std::span<Hitd> out,
+                              std::span<bool> exits) {
+  return std::min(intersect_all(spheres, ray, out, exits), out.size());
 }
 
 std::size_t intersect_nearest(const SphereBVH& bvh, const Ray& ray, std::span<Hit> out) {

@@ -28,6 +28,8 @@ struct AllHits {
   using List = BasicHitList<S>;
   using View = BasicSphereView<S>;
   using RayS = BasicRay<S>;
+  using Tree = BasicBvhData<S>;
+  using Walk = TreeWalk<A, S>;
   using Floats = typename Lanes::Floats;
   using Mask = typename Lanes::Mask;
   using RaySetup = typename Lanes::RaySetup;
@@ -38,7 +40,7 @@ struct AllHits {
     return v.mask != nullptr ? intersect_all<true>(v, ray, list)
                              : intersect_all<false>(v, ray, list);
   }
-  static std::size_t intersect_all(const BvhData& bvh, const Ray& ray, HitList& list) {
+  static std::size_t intersect_all(const Tree& bvh, const RayS& ray, List& list) {
     return bvh.spheres.mask != nullptr ? intersect_all<true>(bvh, ray, list)
                                        : intersect_all<false>(bvh, ray, list);
   }
@@ -61,33 +63,33 @@ struct AllHits {
   }
 
   template <bool kMasked>
-  static std::size_t intersect_all(const BvhData& bvh, const Ray& ray, HitList& list) {
+  static std::size_t intersect_all(const Tree& bvh, const RayS& ray, List& list) {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return 0;
-    const float tmax = s.tmax;  // the walk's bound: it never shrinks
-    auto add = [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
-      add_batch<Skip::kAfterDisc>(s, Lanes::template load_seen<kMasked>(bvh.spheres, first, s),
-                                  list, [&](unsigned lane) { return bvh.ids[first + lane]; });
-    };
+    const S tmax = s.tmax;  // the walk's bound: it never shrinks
+    auto add = [&](std::size_t first, std::size_t count)
+                   SPHRAY_FORCE_INLINE_LAMBDA { add_leaf<kMasked>(bvh, s, first, count, list); };
     if (list.counts_only()) {
       // A count reaches every leaf in (tmin, tmax) whatever the order: no children to sort.
-      TreeWalk<A>::template traverse<false>(bvh, ray, tmax,
-                                            [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
-                                              add(first);
-                                              return false;
-                                            });
+      Walk::template traverse<false>(
+          bvh, ray, tmax, [&](std::size_t first, std::size_t count) SPHRAY_FORCE_INLINE_LAMBDA {
+            add(first, count);
+            return false;
+          });
       return list.total();
     }
     // A list is kept nearest first: leaves in that order place most crossings of a long ray
     // behind the kept ones, counted lane-parallel (add_batch). In any order they were slower
     // (docs/history.md, "count_hits without sorting").
-    TreeWalk<A>::traverse(bvh, ray, tmax, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
-      // A leaf's ids lie apart from its spheres: asked for early, their cache line arrives
-      // while the roots are computed instead of stalling the first crossing placed.
-      __builtin_prefetch(bvh.ids + first);
-      add(first);
-      return false;
-    });
+    Walk::traverse(bvh, ray, tmax,
+                   [&](std::size_t first, std::size_t count) SPHRAY_FORCE_INLINE_LAMBDA {
+                     // A leaf's ids lie apart from its spheres: asked for early, their cache line
+                     // arrives while the roots are computed instead of stalling the first crossing
+                     // placed.
+                     __builtin_prefetch(bvh.ids + first);
+                     add(first, count);
+                     return false;
+                   });
     return list.total();
   }
 
@@ -96,24 +98,35 @@ struct AllHits {
   // stops at the nearest found so far. A crossing at that t may still displace the last kept
   // one (a lower id), and the walk still enters boxes that begin at it. Returns how many it
   // kept.
-  static std::size_t intersect_nearest(const BvhData& bvh, const Ray& ray, HitList& list) {
+  static std::size_t intersect_nearest(const Tree& bvh, const RayS& ray, List& list) {
     return bvh.spheres.mask != nullptr ? intersect_nearest<true>(bvh, ray, list)
                                        : intersect_nearest<false>(bvh, ray, list);
   }
 
   template <bool kMasked>
-  static std::size_t intersect_nearest(const BvhData& bvh, const Ray& ray, HitList& list) {
+  static std::size_t intersect_nearest(const Tree& bvh, const RayS& ray, List& list) {
     RaySetup s;
     if (!Lanes::setup(ray, s)) return 0;
-    float bound = s.tmax;
-    TreeWalk<A>::traverse(bvh, ray, bound, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
-      __builtin_prefetch(bvh.ids + first);
-      add_batch<Skip::kAfterDisc>(s, Lanes::template load_seen<kMasked>(bvh.spheres, first, s),
-                                  list, [&](unsigned lane) { return bvh.ids[first + lane]; });
-      if (list.full()) bound = list.last_t();
-      return false;
-    });
+    S bound = s.tmax;
+    Walk::traverse(bvh, ray, bound,
+                   [&](std::size_t first, std::size_t count) SPHRAY_FORCE_INLINE_LAMBDA {
+                     __builtin_prefetch(bvh.ids + first);
+                     add_leaf<kMasked>(bvh, s, first, count, list);
+                     if (list.full()) bound = list.last_t();
+                     return false;
+                   });
     return list.size();
+  }
+
+  // The crossings of the tree's leaf of count spheres at slot first, one batch of S at a time:
+  // a leaf has as many slots as a float batch has lanes (bvh/box_test.hpp), and the batches
+  // past its spheres hold padding alone.
+  template <bool kMasked>
+  SPHRAY_FORCE_INLINE static void add_leaf(const Tree& bvh, const RaySetup& s, std::size_t first,
+                                           std::size_t count, List& list) {
+    for (std::size_t i = first; i < first + count; i += kWidth)
+      add_batch<Skip::kAfterDisc>(s, Lanes::template load_seen<kMasked>(bvh.spheres, i, s), list,
+                                  [&](unsigned lane) { return bvh.ids[i + lane]; });
   }
 
   // The crossings of one batch: a lane's near root is an entry, its far root an exit, each

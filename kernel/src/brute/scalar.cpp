@@ -179,11 +179,12 @@ std::size_t scalar_intersect_all(BasicSphereView<S> spheres, const BasicRay<S>& 
 
 // Every crossing does not depend on the order spheres are visited in: the tree's slots, each
 // with its id, one at a time (padding slots have radius 0 and are never hit).
-std::size_t scalar_bvh_intersect_all(const BvhData& bvh, const Ray& ray, Hit* hits, bool* exits,
-                                     std::size_t capacity) {
-  SPHRAY_ISA_NAMESPACE::HitList list(hits, exits, capacity);
+template <Scalar S>
+std::size_t scalar_bvh_intersect_all(const BasicBvhData<S>& bvh, const BasicRay<S>& ray,
+                                     BasicHit<S>* hits, bool* exits, std::size_t capacity) {
+  SPHRAY_ISA_NAMESPACE::BasicHitList<S> list(hits, exits, capacity);
   if (!valid_ray(ray)) return 0;
-  const SphereView& slots = bvh.spheres;
+  const BasicSphereView<S>& slots = bvh.spheres;
   for (std::size_t i = 0; i < slots.count; ++i)
     scalar::add_crossings({slots.cx[i], slots.cy[i], slots.cz[i]},
                           scalar::seen_radius(slots, i, ray), bvh.ids[i], ray, list);
@@ -191,8 +192,9 @@ std::size_t scalar_bvh_intersect_all(const BvhData& bvh, const Ray& ray, Hit* hi
 }
 
 // The nearest crossings are the first of every crossing: the reference needs no pruning.
-std::size_t scalar_bvh_intersect_nearest(const BvhData& bvh, const Ray& ray, Hit* hits, bool* exits,
-                                         std::size_t capacity) {
+template <Scalar S>
+std::size_t scalar_bvh_intersect_nearest(const BasicBvhData<S>& bvh, const BasicRay<S>& ray,
+                                         BasicHit<S>* hits, bool* exits, std::size_t capacity) {
   return std::min(scalar_bvh_intersect_all(bvh, ray, hits, exits, capacity), capacity);
 }
 
@@ -251,8 +253,8 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              &scalar_bvh_arrays,
                                              &scalar_bvh_occluded_stream<float>,
                                              &scalar_intersect_all<float>,
-                                             &scalar_bvh_intersect_all,
-                                             &scalar_bvh_intersect_nearest,
+                                             &scalar_bvh_intersect_all<float>,
+                                             &scalar_bvh_intersect_nearest<float>,
                                              &scalar_nearest,
                                              &scalar_overlapping,
                                              &scalar_bvh_nearest,
@@ -270,5 +272,7 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              &scalar_bvh_intersect<double>,
                                              &scalar_bvh_occluded<double>,
                                              &scalar_bvh_intersect_stream<double>,
-                                             &scalar_bvh_occluded_stream<double>};
+                                             &scalar_bvh_occluded_stream<double>,
+                                             &scalar_bvh_intersect_all<double>,
+                                             &scalar_bvh_intersect_nearest<double>};
 }  // namespace sphray::detail

@@ -1,9 +1,9 @@
 // The SIMD walk's box test, written once over an xsimd architecture A and the ray's scalar S:
 // one ray against the kWidth children boxes of a node per step, and the order in which the
-// entered children are visited. A double tree's nodes hold float planes, one per double lane,
-// read widened (exactly) so that the test runs in double. A NaN slab distance (0 * inf) leaves
-// the interval as it was, through Ordered's NaN rule: the slab is treated as unbounded, which
-// is conservative.
+// entered children are visited. A double tree's nodes hold float planes, read widened (exactly)
+// a batch of doubles at a time, so that the test runs in double. A NaN slab distance (0 * inf)
+// leaves the interval as it was, through Ordered's NaN rule: the slab is treated as unbounded,
+// which is conservative.
 #pragma once
 
 #include <cstddef>
@@ -29,11 +29,21 @@ struct BoxTest {
   using Floats = xsimd::batch<S, A>;
   using Mask = xsimd::batch_bool<S, A>;
   using Order = Ordered<A, S>;
-  static constexpr std::size_t kWidth = Floats::size;
+  // A node has as many children as a float batch has lanes, whatever S: a double tree's nodes
+  // are those of a float tree (bvh_data.hpp), tested kPieces batches of doubles at a time, so
+  // that a double tree is as shallow as a float one.
+  static constexpr std::size_t kLanes = Floats::size;
+  static constexpr std::size_t kWidth = xsimd::batch<float, A>::size;
+  static constexpr std::size_t kPieces = kWidth / kLanes;
   using Node = NodeView<const float>;
   // A node visit leaves at most kWidth - 1 entries above its ancestors' (one child is visited
   // next), and writes at most one slot past them: kBvhMaxDepth levels fit in this.
   static constexpr std::size_t kStackSize = kBvhMaxDepth * (kWidth - 1) + 1;
+
+  // Where the ray enters each child of a node: kPieces batches, children 0 to kLanes - 1 first.
+  struct Near {
+    Floats piece[kPieces];
+  };
 
   // What one ray contributes to every node. near[axis] is the offset (in batches of a node's
   // box arrays) of the plane the ray meets first on that axis: lo for a positive direction, hi
@@ -65,24 +75,36 @@ struct BoxTest {
             __builtin_signbit(d.z) ? 5u : 4u};
   }
 
-  SPHRAY_FORCE_INLINE static Floats plane(const Node& node, std::size_t row) {
+  // Piece p of a row of box planes; a double tree's float planes widened exactly.
+  SPHRAY_FORCE_INLINE static Floats plane(const Node& node, std::size_t row, std::size_t p = 0) {
     if constexpr (std::is_same_v<S, float>)
       return Floats::load_aligned(node.plane_row(row));
     else
-      return Widen<A>::load_widened(node.plane_row(row));
+      return Widen<A>::load_widened(node.plane_row(row) + p * kLanes);
   }
 
-  // The children whose boxes the ray enters before best_t, and where it enters them. kAhead:
-  // the ray passed QueryPlan::ahead(); both forms return the same mask and tnear for such a ray.
+  // The children whose boxes the ray enters before best_t, as bits, and where it enters them.
+  // kAhead: the ray passed QueryPlan::ahead(); both forms return the same bits and tnear for
+  // such a ray.
   template <bool kAhead>
-  SPHRAY_FORCE_INLINE static Mask enter_children(const NodeSetup& s, const Node& node,
-                                                 const Floats& best_t, Floats& tnear) {
-    const Floats near_x = (plane(node, s.near_x) - s.ox) * s.inv_dx;
-    const Floats near_y = (plane(node, s.near_y) - s.oy) * s.inv_dy;
-    const Floats near_z = (plane(node, s.near_z) - s.oz) * s.inv_dz;
-    const Floats far_x = (plane(node, s.near_x ^ 1u) - s.ox) * s.inv_dx;
-    const Floats far_y = (plane(node, s.near_y ^ 1u) - s.oy) * s.inv_dy;
-    const Floats far_z = (plane(node, s.near_z ^ 1u) - s.oz) * s.inv_dz;
+  SPHRAY_FORCE_INLINE static unsigned enter_children(const NodeSetup& s, const Node& node,
+                                                     const Floats& best_t, Near& tnear) {
+    unsigned bits = 0;
+    for (std::size_t p = 0; p < kPieces; ++p)
+      bits |= LaneReduce<A>::bits(enter_piece<kAhead>(s, node, p, best_t, tnear.piece[p]))
+              << (p * kLanes);
+    return bits;
+  }
+
+  template <bool kAhead>
+  SPHRAY_FORCE_INLINE static Mask enter_piece(const NodeSetup& s, const Node& node, std::size_t p,
+                                              const Floats& best_t, Floats& tnear) {
+    const Floats near_x = (plane(node, s.near_x, p) - s.ox) * s.inv_dx;
+    const Floats near_y = (plane(node, s.near_y, p) - s.oy) * s.inv_dy;
+    const Floats near_z = (plane(node, s.near_z, p) - s.oz) * s.inv_dz;
+    const Floats far_x = (plane(node, s.near_x ^ 1u, p) - s.ox) * s.inv_dx;
+    const Floats far_y = (plane(node, s.near_y ^ 1u, p) - s.oy) * s.inv_dy;
+    const Floats far_z = (plane(node, s.near_z ^ 1u, p) - s.oz) * s.inv_dz;
     const Floats shrink(SlabScale<S>::kEntry), grow(SlabScale<S>::kExit);
     Floats tfar_widened;
     if constexpr (kAhead) {
@@ -112,10 +134,11 @@ struct BoxTest {
   // Pushes the entered children but the nearest, farthest first, and returns the nearest: it
   // is visited next, with no trip through the stack. One or two children, what most nodes give
   // an incoherent ray, take a path without data-dependent branches.
-  SPHRAY_FORCE_INLINE static ChildRef enter(const Node& node, unsigned bits, const Floats& tnear,
+  SPHRAY_FORCE_INLINE static ChildRef enter(const Node& node, unsigned bits, const Near& tnear,
                                             StackEntry* stack, std::size_t& top) {
     alignas(64) S t[kWidth];
-    tnear.store_aligned(t);
+    for (std::size_t p = 0; p < kPieces; ++p)
+      tnear.piece[p].store_aligned(t + p * kLanes);
     const unsigned rest = bits & (bits - 1);
     if ((rest & (rest - 1)) == 0) {
       const auto a = static_cast<unsigned>(__builtin_ctz(bits));
@@ -133,8 +156,13 @@ struct BoxTest {
     for (unsigned left = bits; left != 0; left &= left - 1) {
       const auto lane = static_cast<unsigned>(__builtin_ctz(left));
       const Floats tl(t[lane]);
-      const unsigned farther = LaneReduce<A>::bits(tnear > tl) & bits;
-      const unsigned tied = LaneReduce<A>::bits(tnear == tl) & bits & ((1u << lane) - 1u);
+      unsigned farther = 0, tied = 0;
+      for (std::size_t p = 0; p < kPieces; ++p) {
+        farther |= LaneReduce<A>::bits(tnear.piece[p] > tl) << (p * kLanes);
+        tied |= LaneReduce<A>::bits(tnear.piece[p] == tl) << (p * kLanes);
+      }
+      farther &= bits;
+      tied &= bits & ((1u << lane) - 1u);
       stack[top + static_cast<unsigned>(__builtin_popcount(farther)) +
             static_cast<unsigned>(__builtin_popcount(tied))] = {node.ref(lane), t[lane]};
     }

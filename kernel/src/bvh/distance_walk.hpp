@@ -45,7 +45,7 @@ struct DistanceWalk {
         const Floats lower = BoxDistance<A>::lower_bound(node, x, y, z);
         const unsigned bits = LaneReduce<A>::bits(lower <= Floats(bound()));
         if (bits != 0) {
-          ref = Box::enter(node, bits, lower, stack, top);
+          ref = Box::enter(node, bits, {lower}, stack, top);
           continue;
         }
       }

@@ -27,10 +27,14 @@ struct LeafTest {
   using Floats = typename Batch::Floats;
   using Mask = typename Batch::Mask;
   using Uints = typename Batch::Uints;
-  static constexpr std::size_t kWidth = Batch::kWidth;
+  // A leaf holds as many slots as a float batch has lanes, whatever S (box_test.hpp): kPieces
+  // batches of S.
+  static constexpr std::size_t kLanes = Batch::kWidth;
+  static constexpr std::size_t kWidth = xsimd::batch<float, A>::size;
+  static constexpr std::size_t kPieces = kWidth / kLanes;
 
-  // Folds the hits of the leaf batch at slot i into best. Leaf order is not id order, so a tie
-  // on t goes to the lower id explicitly. Two forms, the same result:
+  // Folds the hits of the leaf at slot i into best, a batch at a time. Leaf order is not id
+  // order, so a tie on t goes to the lower id explicitly. Two forms, the same result:
   // - kBranchFree = false: the sphere kernel's early exit when no lane's discriminant is
   //   non-negative, then a loop over the lanes that hit.
   // - kBranchFree = true: no branch on the lanes but "any hit at all": the roots of every lane,
@@ -40,9 +44,24 @@ struct LeafTest {
   // them with a lane whose discriminant is non-negative: there the branches are coin tosses,
   // each mispredicted one costing more than the arithmetic it skips, and coherent rays lose
   // nothing without them. The tree picks (QueryPlan::branch_free_leaves).
+  // count: the leaf's spheres; the batches past them hold padding alone and are not read.
   template <bool kBranchFree, bool kMasked>
   SPHRAY_FORCE_INLINE static void keep_closest(const Data& bvh, const typename Batch::RaySetup& s,
-                                               std::size_t i, BasicHit<S>& best) {
+                                               std::size_t i, BasicHit<S>& best,
+                                               std::size_t count = kWidth) {
+    for (std::size_t p = 0; p < batches(count); ++p)
+      keep_closest_in_batch<kBranchFree, kMasked>(bvh, s, i + p * kLanes, best);
+  }
+
+  // The batches that hold a leaf's count spheres.
+  SPHRAY_FORCE_INLINE static std::size_t batches(std::size_t count) {
+    return kPieces == 1 ? 1 : (count + kLanes - 1) / kLanes;
+  }
+
+  template <bool kBranchFree, bool kMasked>
+  SPHRAY_FORCE_INLINE static void keep_closest_in_batch(const Data& bvh,
+                                                        const typename Batch::RaySetup& s,
+                                                        std::size_t i, BasicHit<S>& best) {
     Floats t;
     Mask live;
     constexpr Skip kSkip = kBranchFree ? Skip::kNever : Skip::kAfterDisc;
@@ -57,7 +76,7 @@ struct LeafTest {
     } else {
       unsigned bits = LaneReduce<A>::bits(hit);
       if (bits == 0) return;
-      alignas(64) S lanes[kWidth];
+      alignas(64) S lanes[kLanes];
       t.store_aligned(lanes);
       for (; bits != 0; bits &= bits - 1) {
         const auto lane = static_cast<unsigned>(__builtin_ctz(bits));
@@ -66,16 +85,20 @@ struct LeafTest {
     }
   }
 
-  // Whether some sphere of the leaf batch at slot i lies on the ray strictly between tmin and
-  // tmax: the occlusion test, the same for a single ray and a packet's rays.
+  // Whether some sphere of the leaf at slot i lies on the ray strictly between tmin and tmax:
+  // the occlusion test, the same for a single ray and a packet's rays.
   template <bool kMasked>
   SPHRAY_FORCE_INLINE static bool any_hit(const Data& bvh, const typename Batch::RaySetup& s,
-                                          std::size_t i) {
-    Floats t;
-    Mask live;
-    const auto spheres = Batch::template load_seen<kMasked>(bvh.spheres, i, s);
-    return Batch::template roots<Skip::kAfterDisc>(s, spheres, t, live) &&
-           xsimd::any(live & (t > s.tmin) & (t < Floats(s.tmax)));
+                                          std::size_t i, std::size_t count = kWidth) {
+    for (std::size_t p = 0; p < batches(count); ++p) {
+      Floats t;
+      Mask live;
+      const auto spheres = Batch::template load_seen<kMasked>(bvh.spheres, i + p * kLanes, s);
+      if (Batch::template roots<Skip::kAfterDisc>(s, spheres, t, live) &&
+          xsimd::any(live & (t > s.tmin) & (t < Floats(s.tmax))))
+        return true;
+    }
+    return false;
   }
 
   // any_hit transposed, for a packet's rays at one leaf: rays in the lanes (rays holds their

@@ -27,9 +27,10 @@ struct BvhTraversal {
   using Rays = BasicRay<S>;
   using Floats = typename Batch::Floats;
   using Mask = typename Batch::Mask;
-  static constexpr std::size_t kWidth = Batch::kWidth;
   using Leaves = LeafTest<A, S>;
   using Walks = TreeWalk<A, S>;
+  // Children per node and slots per leaf: a float batch's lanes (box_test.hpp).
+  static constexpr std::size_t kWidth = Walks::kWidth;
 
   // A leaf is one aligned batch of slots: its spheres, then never-hit padding. The leaf test's
   // form (see keep_closest) is the tree's: branch-free where leaf boxes overlap.
@@ -57,10 +58,11 @@ struct BvhTraversal {
     typename Batch::RaySetup s;
     Hits best{ray.tmax, kNoHit};
     if (!Batch::setup(ray, s)) return best;
-    Walks::traverse(bvh, ray, best.t, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
-      Leaves::template keep_closest<kBranchFree, kMasked>(bvh, s, first, best);
-      return false;
-    });
+    Walks::traverse(
+        bvh, ray, best.t, [&](std::size_t first, std::size_t count) SPHRAY_FORCE_INLINE_LAMBDA {
+          Leaves::template keep_closest<kBranchFree, kMasked>(bvh, s, first, best, count);
+          return false;
+        });
     return best;
   }
 
@@ -73,10 +75,11 @@ struct BvhTraversal {
     typename Batch::RaySetup s;
     if (!Batch::setup(ray, s)) return false;
     bool hit = false;
-    Walks::traverse(bvh, ray, s.tmax, [&](std::size_t first) SPHRAY_FORCE_INLINE_LAMBDA {
-      hit = Leaves::template any_hit<kMasked>(bvh, s, first);
-      return hit;
-    });
+    Walks::traverse(bvh, ray, s.tmax,
+                    [&](std::size_t first, std::size_t count) SPHRAY_FORCE_INLINE_LAMBDA {
+                      hit = Leaves::template any_hit<kMasked>(bvh, s, first, count);
+                      return hit;
+                    });
     return hit;
   }
 };

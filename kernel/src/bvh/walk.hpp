@@ -48,9 +48,8 @@ struct TreeWalk {
     SPHRAY_FORCE_INLINE bool descend(const Data& bvh, S best_t, std::size_t& first) {
       while (!ref.is_leaf()) {
         const Node node(bvh.nodes, ref.node_index(), kWidth);
-        Floats tnear;
-        const unsigned bits = LaneReduce<A>::bits(
-            Box::template enter_children<kAhead>(s, node, Floats(best_t), tnear));
+        typename Box::Near tnear;
+        const unsigned bits = Box::template enter_children<kAhead>(s, node, Floats(best_t), tnear);
         if (bits == 0) return false;
         if constexpr (kOrdered)
           ref = Box::enter(node, bits, tnear, stack, top);
@@ -89,17 +88,17 @@ struct TreeWalk {
     }
   };
 
-  // Visits the tree: for each leaf the ray may reach before best_t, calls leaf(first sphere),
-  // which returns whether to stop. Nodes are entered nearest child first; with kOrdered false,
-  // in any order (for a walk that reaches every leaf within a bound that never shrinks, where
-  // the order changes nothing but the cost of sorting the children).
+  // Visits the tree: for each leaf the ray may reach before best_t, calls leaf(first slot,
+  // sphere count), which returns whether to stop. Nodes are entered nearest child first; with
+  // kOrdered false, in any order (for a walk that reaches every leaf within a bound that never
+  // shrinks, where the order changes nothing but the cost of sorting the children).
   template <bool kOrdered = true, class Leaf>
   static void traverse(const Data& bvh, const BasicRay<S>& ray, const S& best_t, Leaf&& leaf) {
     if (bvh.node_count == 0) return;
     // A tree over at most kWidth spheres is one leaf, at slot 0: it is read directly, as brute
     // force reads a batch, without a test of the root's mostly empty child boxes.
     if (bvh.count <= kWidth) {
-      leaf(0);
+      leaf(0, bvh.count);
       return;
     }
     if (QueryPlan::ahead(ray))
@@ -114,7 +113,7 @@ struct TreeWalk {
     w.start(ray);
     std::size_t first;
     for (bool more = w.first_leaf(bvh, best_t, first); more; more = w.next_leaf(bvh, best_t, first))
-      if (leaf(first)) return;
+      if (leaf(first, w.ref.count(kWidth))) return;
   }
 };
 

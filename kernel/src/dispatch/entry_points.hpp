@@ -120,23 +120,25 @@ struct EntryPoints {
     HitList list(hits, exits, capacity);
     return AllHits<A>::intersect_all(v, ray, list);
   }
-  static std::size_t bvh_intersect_all(const BvhData& bvh, const Ray& ray, Hit* hits, bool* exits,
-                                       std::size_t capacity) {
-    HitList list(hits, exits, capacity);
-    return AllHits<A>::intersect_all(bvh, ray, list);
+  template <class S>
+  static std::size_t bvh_intersect_all(const BasicBvhData<S>& bvh, const BasicRay<S>& ray,
+                                       BasicHit<S>* hits, bool* exits, std::size_t capacity) {
+    BasicHitList<S> list(hits, exits, capacity);
+    return AllHits<A, S>::intersect_all(bvh, ray, list);
   }
-  static std::size_t bvh_intersect_nearest(const BvhData& bvh, const Ray& ray, Hit* hits,
-                                           bool* exits, std::size_t capacity) {
+  template <class S>
+  static std::size_t bvh_intersect_nearest(const BasicBvhData<S>& bvh, const BasicRay<S>& ray,
+                                           BasicHit<S>* hits, bool* exits, std::size_t capacity) {
     // The nearest crossing alone is the closest hit, bit for bit (docs/queries.md): its walk,
     // without a list to keep.
     if (capacity == 1 && exits == nullptr) {
-      const Hit hit = bvh_intersect(bvh, ray);
+      const BasicHit<S> hit = tree_intersect(bvh, ray);
       if (!hit.found()) return 0;
       hits[0] = hit;
       return 1;
     }
-    HitList list(hits, exits, capacity);
-    return AllHits<A>::intersect_nearest(bvh, ray, list);
+    BasicHitList<S> list(hits, exits, capacity);
+    return AllHits<A, S>::intersect_nearest(bvh, ray, list);
   }
 
   using Points = PointQueries<A>;
@@ -217,8 +219,8 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::bvh_intersect_arrays,
           &E::bvh_occluded_stream,
           &E::intersect_all,
-          &E::bvh_intersect_all,
-          &E::bvh_intersect_nearest,
+          &E::template bvh_intersect_all<float>,
+          &E::template bvh_intersect_nearest<float>,
           &E::nearest,
           &E::overlapping,
           &E::bvh_nearest,
@@ -236,7 +238,9 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::bvh_intersect_d,
           &E::bvh_occluded_d,
           &E::bvh_intersect_stream_d,
-          &E::bvh_occluded_stream_d};
+          &E::bvh_occluded_stream_d,
+          &E::template bvh_intersect_all<double>,
+          &E::template bvh_intersect_nearest<double>};
 }
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -84,7 +84,8 @@ struct EntryTable {
                             std::size_t count);
   std::size_t (*intersect_all_d)(SphereViewd spheres, const Rayd& ray, Hitd* hits, bool* exits,
                                  std::size_t capacity);
-  /// The SphereBVHd entries: trees of bvh_width_d children per node and doubles per leaf batch.
+  /// The SphereBVHd entries: trees of bvh_width_d children per node and spheres per leaf (the
+  /// float trees' width: a leaf is bvh_width_d / width_d batches of doubles).
   std::size_t bvh_width_d;
   Hitd (*bvh_intersect_d)(const BvhDatad& bvh, const Rayd& ray);
   bool (*bvh_occluded_d)(const BvhDatad& bvh, const Rayd& ray);
@@ -92,6 +93,10 @@ struct EntryTable {
                                  std::size_t count);
   void (*bvh_occluded_stream_d)(const BvhDatad& bvh, const Rayd* rays, bool* blocked,
                                 std::size_t count);
+  std::size_t (*bvh_intersect_all_d)(const BvhDatad& bvh, const Rayd& ray, Hitd* hits, bool* exits,
+                                     std::size_t capacity);
+  std::size_t (*bvh_intersect_nearest_d)(const BvhDatad& bvh, const Rayd& ray, Hitd* hits,
+                                         bool* exits, std::size_t capacity);
 };
 
 /// The kernel for isa, or nullptr if this build lacks it or this machine cannot run it.
