@@ -5,9 +5,11 @@
 #include <bit>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "double_support.hpp"
@@ -254,6 +256,42 @@ TEST(Double, EveryCrossingGivesTheScalarReferenceBits) {
     }
   }
   EXPECT_GT(crossings, 1000u);  // the scenes are crossed often enough to prove something
+}
+
+// SphereSoAd: aligned arrays padded with never-hit spheres, whose views every kernel reads in
+// whole batches, with the answers of the same spheres in unpadded arrays; masks, set and copies
+// as SphereSoA's.
+TEST(Double, SphereSoAdIsPaddedAndAnswersAsItsSpheres) {
+  std::mt19937 rng(3705);
+  const DoubleSpheres loose = random_spheres(rng, 37, {1e5, 0, 0}, 1e-3);
+  SphereSoAd soa;
+  for (std::size_t i = 0; i < loose.size(); ++i) {
+    const SphereViewd v = loose.view(true);
+    EXPECT_EQ(soa.add({v.cx[i], v.cy[i], v.cz[i]}, v.radius[i], v.mask[i]), i);
+  }
+  const SphereViewd view = soa.view();
+  ASSERT_EQ(view.count, 37u);
+  EXPECT_EQ(view.padded_count, 48u);
+  for (const double* array : {view.cx, view.cy, view.cz, view.radius})
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(array) % SphereSoAd::kAlignment, 0u);
+  for (std::size_t i = view.count; i < view.padded_count; ++i)
+    EXPECT_EQ(view.radius[i], 0.0);
+  EXPECT_EQ(soa.center(5).x, loose.view().cx[5]);  // the doubles as given, not rounded
+  for (const EntryTable* k : test::runnable_kernels()) {
+    for (std::size_t i = 0; i < test::scaled(300); ++i) {
+      Rayd ray = random_ray(rng, {1e5, 0, 0}, 1e-3);
+      ray.mask = static_cast<std::uint32_t>(rng());
+      ASSERT_TRUE(same_bits(k->intersect_d(view, ray), scalar::intersect(loose.view(true), ray)))
+          << test::name_of(k);
+    }
+  }
+  const SphereSoAd copy = soa;
+  EXPECT_EQ(copy.size(), soa.size());
+  EXPECT_EQ(copy.mask(7), soa.mask(7));
+  soa.set(0, {1, 2, 3}, 0.5);
+  EXPECT_EQ(soa.radius(0), 0.5);
+  EXPECT_NE(copy.radius(0), 0.5);
+  EXPECT_THROW(soa.set(37, {0, 0, 0}, 1.0), std::out_of_range);
 }
 
 TEST(Double, StreamsAnswerAsSingleQueriesAndCheckTheirSizes) {

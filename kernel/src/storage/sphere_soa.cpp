@@ -14,19 +14,22 @@ namespace {
 constexpr std::size_t kMaxSpheres = kNoHit;
 }  // namespace
 
-void SphereSoA::AlignedDelete::operator()(float* p) const {
+template <Scalar S>
+void BasicSphereSoA<S>::AlignedDelete::operator()(S* p) const {
   ::operator delete[](p, std::align_val_t{kAlignment});
 }
 
-SphereSoA::SphereSoA(const SphereSoA& other) {
+template <Scalar S>
+BasicSphereSoA<S>::BasicSphereSoA(const BasicSphereSoA& other) {
   *this = other;
 }
 
-SphereSoA& SphereSoA::operator=(const SphereSoA& other) {
+template <Scalar S>
+BasicSphereSoA<S>& BasicSphereSoA<S>::operator=(const BasicSphereSoA& other) {
   if (this == &other) return *this;
   clear();
   reallocate(other.capacity_);
-  if (capacity_ != 0) std::memcpy(data_.get(), other.data_.get(), 4 * capacity_ * sizeof(float));
+  if (capacity_ != 0) std::memcpy(data_.get(), other.data_.get(), 4 * capacity_ * sizeof(S));
   size_ = other.size_;
   masks_ = other.masks_;
   return *this;
@@ -34,7 +37,8 @@ SphereSoA& SphereSoA::operator=(const SphereSoA& other) {
 
 // The padding past size_ (up to a multiple of kPadding) always holds radius-0 spheres, which
 // are never hit: the zero-initialised allocation and clear() keep it so.
-void SphereSoA::reallocate(std::size_t capacity) {
+template <Scalar S>
+void BasicSphereSoA<S>::reallocate(std::size_t capacity) {
   capacity = (capacity + kPadding - 1) / kPadding * kPadding;
   if (capacity == 0) {
     data_.reset();
@@ -42,23 +46,25 @@ void SphereSoA::reallocate(std::size_t capacity) {
     masks_.clear();
     return;
   }
-  std::unique_ptr<float[], AlignedDelete> data(static_cast<float*>(
-      ::operator new[](4 * capacity * sizeof(float), std::align_val_t{kAlignment})));
-  detail::prefer_huge_pages(data.get(), 4 * capacity * sizeof(float));
-  std::fill_n(data.get(), 4 * capacity, 0.0f);
+  std::unique_ptr<S[], AlignedDelete> data(
+      static_cast<S*>(::operator new[](4 * capacity * sizeof(S), std::align_val_t{kAlignment})));
+  detail::prefer_huge_pages(data.get(), 4 * capacity * sizeof(S));
+  std::fill_n(data.get(), 4 * capacity, S{0});
   for (int k = 0; k < 4; ++k)
-    if (size_ != 0) std::memcpy(data.get() + k * capacity, array(k), size_ * sizeof(float));
+    if (size_ != 0) std::memcpy(data.get() + k * capacity, array(k), size_ * sizeof(S));
   data_ = std::move(data);
   capacity_ = capacity;
   if (!masks_.empty()) masks_.resize(capacity_, kAllBits);
 }
 
-void SphereSoA::reserve(std::size_t n) {
+template <Scalar S>
+void BasicSphereSoA<S>::reserve(std::size_t n) {
   if (n > kMaxSpheres) throw std::length_error("sphray::SphereSoA: more than 2^32 - 1 spheres");
   if (n > capacity_) reallocate(n);
 }
 
-std::uint32_t SphereSoA::add(Vec3 center, float radius, std::uint32_t mask) {
+template <Scalar S>
+std::uint32_t BasicSphereSoA<S>::add(BasicVec3<S> center, S radius, std::uint32_t mask) {
   if (size_ == kMaxSpheres)
     throw std::length_error("sphray::SphereSoA: more than 2^32 - 1 spheres");
   if (size_ == capacity_) reserve(std::clamp<std::size_t>(2 * capacity_, kPadding, kMaxSpheres));
@@ -68,7 +74,8 @@ std::uint32_t SphereSoA::add(Vec3 center, float radius, std::uint32_t mask) {
   return id;
 }
 
-void SphereSoA::set_mask(std::uint32_t id, std::uint32_t mask) {
+template <Scalar S>
+void BasicSphereSoA<S>::set_mask(std::uint32_t id, std::uint32_t mask) {
   if (id >= size_) throw std::out_of_range("sphray::SphereSoA::set_mask: id out of range");
   if (masks_.empty()) {
     if (mask == kAllBits) return;
@@ -77,7 +84,8 @@ void SphereSoA::set_mask(std::uint32_t id, std::uint32_t mask) {
   masks_[id] = mask;
 }
 
-void SphereSoA::set(std::uint32_t id, Vec3 center, float radius) {
+template <Scalar S>
+void BasicSphereSoA<S>::set(std::uint32_t id, BasicVec3<S> center, S radius) {
   if (id >= size_) throw std::out_of_range("sphray::SphereSoA::set: id out of range");
   array(0)[id] = center.x;
   array(1)[id] = center.y;
@@ -85,14 +93,16 @@ void SphereSoA::set(std::uint32_t id, Vec3 center, float radius) {
   array(3)[id] = radius;
 }
 
-void SphereSoA::clear() {
+template <Scalar S>
+void BasicSphereSoA<S>::clear() {
   for (int k = 0; k < 4; ++k)
-    if (size_ != 0) std::fill_n(array(k), size_, 0.0f);
+    if (size_ != 0) std::fill_n(array(k), size_, S{0});
   size_ = 0;
   masks_.clear();
 }
 
-SphereView SphereSoA::view() const {
+template <Scalar S>
+BasicSphereView<S> BasicSphereSoA<S>::view() const {
   if (capacity_ == 0) return {nullptr, nullptr, nullptr, nullptr, 0, 0};
   return {array(0),
           array(1),
@@ -102,5 +112,8 @@ SphereView SphereSoA::view() const {
           (size_ + kPadding - 1) / kPadding * kPadding,
           masks_.empty() ? nullptr : masks_.data()};
 }
+
+template class BasicSphereSoA<float>;
+template class BasicSphereSoA<double>;
 
 }  // namespace sphray
