@@ -133,7 +133,8 @@ void run_embree(benchmark::State& state, std::string_view scene, RayKind kind) {
 }  // namespace
 
 void register_double_benchmarks() {
-  for (const std::string_view scene : {"three", "rtiow-final", "random:64", "random:512"}) {
+  for (const std::string_view scene :
+       {"three", "random:8", "rtiow-final", "random:64", "random:512"}) {
     for (const RayKind kind : {RayKind::coherent, RayKind::incoherent}) {
       for (const Isa isa : supported_isas()) {
         const EntryTable& k = *find_entries(isa);

@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "bvh/bvh_data.hpp"
 #include "simd/isa_namespace.hpp"
@@ -35,14 +36,23 @@ namespace sphray::detail {
 // wins. Larger views too small to fill two thirds of the active batch go to a narrower
 // instruction set (entries_for_size, dispatch.cpp).
 inline constexpr std::size_t kScalarBelow = 2;
+// In double, views and trees of fewer than four spheres: with half as many lanes, a batch costs
+// a double query more (its setup, the masked load of a partial batch, the reduction), and three
+// spheres ran faster in the scalar loop than on every instruction set, four slower than AVX2
+// and SSE4.2's full batches (docs/double.md, "Speed"; docs/history.md, "Double precision, the
+// tree").
+inline constexpr std::size_t kScalarBelowDouble = 4;
 
 }  // namespace sphray::detail
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
 struct QueryPlan {
-  // 1. See kScalarBelow.
-  static bool scalar(std::size_t sphere_count) { return sphere_count < kScalarBelow; }
+  // 1. See kScalarBelow and kScalarBelowDouble.
+  template <Scalar S = float>
+  static bool scalar(std::size_t sphere_count) {
+    return sphere_count < (std::is_same_v<S, float> ? kScalarBelow : kScalarBelowDouble);
+  }
 
   // 2. Where a point of the tree's box lies in kBvhBranchFreeOverlap leaf boxes or more on
   // average, a scattered ray tests several leaves, and the leaf test's branches are coin
