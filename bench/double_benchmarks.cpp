@@ -112,6 +112,7 @@ void run_embree(benchmark::State& state, std::string_view scene, RayKind kind) {
   const auto it = std::find_if(impls.begin(), impls.end(), [](const Implementation& i) {
     return i.name == "embree-intersect1" && i.threads == 1;
   });
+  if (it == impls.end()) return state.SkipWithError("no single-thread rtcIntersect1");
   const Trace trace = it->prepare(w);
   std::vector<Hit> hits(w.rays.size());
   std::size_t found = 0;

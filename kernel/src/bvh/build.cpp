@@ -93,7 +93,7 @@ void allocate_nodes(BasicBvhArrays<S>& out, std::size_t nodes) {
   out.node_count = nodes;
 }
 
-// The sphere slots, rounded to 16 floats so that each of the four arrays starts on a cache
+// The sphere slots, rounded to 16 so that each of the four arrays starts on a cache
 // line. Not written here: write_leaves writes every slot, in order, so that a slot's page is
 // first touched when it is filled.
 template <Scalar S>

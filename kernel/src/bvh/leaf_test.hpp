@@ -1,7 +1,7 @@
 // The leaf test of the SIMD walk, written once over an xsimd architecture A and the scalar S of
-// the tree's spheres: a leaf is one
-// aligned batch of slots (its spheres, then never-hit padding), tested with the sphere kernel's
-// roots and folded into the best hit in the contract's order.
+// the tree's spheres: a leaf is an aligned run of slots (its spheres, then never-hit padding),
+// one batch of S or two, tested with the sphere kernel's roots and folded into the best hit in
+// the contract's order.
 #pragma once
 
 #include <cstddef>

@@ -71,7 +71,7 @@ struct QueryPlan {
   // tnear >= 0. Nearly every ray is one (camera and scattered rays start at tmin = 0 or an
   // epsilon), and for them the box test (bvh/box_test.hpp) needs no NaN-ordered min/max chain
   // and no sign selects.
-  // The same for double rays, with double's smallest normal.
+  // Float and double rays alike, each with its precision's smallest normal.
   template <Scalar S>
   static bool ahead(const BasicRay<S>& ray) {
     constexpr S kNormal = std::numeric_limits<S>::min();  // 1 / kNormal is finite
