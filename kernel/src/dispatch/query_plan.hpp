@@ -19,7 +19,6 @@
 // Measured in docs/performance.md and docs/bvh.md; docs/architecture.md follows a ray through.
 #pragma once
 
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -75,8 +74,9 @@ struct QueryPlan {
   template <Scalar S>
   static bool ahead(const BasicRay<S>& ray) {
     constexpr S kNormal = std::numeric_limits<S>::min();  // 1 / kNormal is finite
-    return ray.tmin >= S(0) && std::fabs(ray.dir.x) >= kNormal && std::fabs(ray.dir.y) >= kNormal &&
-           std::fabs(ray.dir.z) >= kNormal;
+    // |x| >= kNormal without a call (std::fabs may stay a shared inline function).
+    const auto normal = [](S x) { return x >= kNormal || x <= -kNormal; };
+    return ray.tmin >= S(0) && normal(ray.dir.x) && normal(ray.dir.y) && normal(ray.dir.z);
   }
 
   // 4. On a tree larger than the caches a scattered ray waits on memory at nearly every node,
