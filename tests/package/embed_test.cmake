@@ -16,3 +16,4 @@ run(${CMAKE_COMMAND} -S ${EXAMPLE_DIR} -B ${WORK_DIR}/build -G ${GENERATOR}
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run(${WORK_DIR}/build/embed)
 run(${WORK_DIR}/build/embed_shared)
+run(${WORK_DIR}/build/double_precision)
