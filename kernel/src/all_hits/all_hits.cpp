@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <stdexcept>
-#include <type_traits>
 
 #include "bvh/bvh_data.hpp"
 #include "dispatch/entry_table.hpp"
@@ -21,23 +20,14 @@ bool* exit_flags(std::span<HitS> out, std::span<bool> exits) {
   return exits.data();
 }
 
-// Of an entry's float and double forms, the one for S.
-template <Scalar S, class Float, class Double>
-auto in_precision(Float float_entry, Double double_entry) {
-  if constexpr (std::is_same_v<S, float>)
-    return float_entry;
-  else
-    return double_entry;
-}
-
 template <Scalar S>
 std::size_t tree_all(const BasicSphereBVH<S>& bvh, const BasicRay<S>& ray,
                      std::span<BasicHit<S>> out, std::span<bool> exits) {
   bool* flags = exit_flags(out, exits);
   using A = detail::BvhAccess;
   const detail::EntryTable& e = A::entries(bvh);
-  return in_precision<S>(e.bvh_intersect_all, e.bvh_intersect_all_d)(A::data(bvh), ray, out.data(),
-                                                                     flags, out.size());
+  return detail::in_precision<S>(e.bvh_intersect_all, e.bvh_intersect_all_d)(
+      A::data(bvh), ray, out.data(), flags, out.size());
 }
 
 template <Scalar S>
@@ -47,7 +37,7 @@ std::size_t tree_nearest(const BasicSphereBVH<S>& bvh, const BasicRay<S>& ray,
   if (out.empty()) return 0;
   using A = detail::BvhAccess;
   const detail::EntryTable& e = A::entries(bvh);
-  return in_precision<S>(e.bvh_intersect_nearest, e.bvh_intersect_nearest_d)(
+  return detail::in_precision<S>(e.bvh_intersect_nearest, e.bvh_intersect_nearest_d)(
       A::data(bvh), ray, out.data(), flags, out.size());
 }
 

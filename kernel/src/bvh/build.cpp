@@ -66,7 +66,7 @@ class Flattener {
   std::size_t w_;
 };
 
-// Double spheres go in as the float records that hold them (Prim::enclosing).
+// Double spheres go in as the float records that hold them (Prim::make for doubles).
 template <Scalar S>
 Prims make_prims(BasicSphereView<S> v) {
   Prims p(v.count);

@@ -124,58 +124,81 @@ const detail::BvhDatad& detail::BvhAccess::data(const SphereBVHd& bvh) {
   return bvh.storage_ ? bvh.storage_->data : kEmptyTreed;
 }
 
+namespace {
+
+using detail::in_precision;
+using Access = detail::BvhAccess;
+
+// The queries, written once for both precisions: the entry of the tree's kernel in its own.
+template <Scalar S>
+BasicHit<S> tree_intersect(const BasicSphereBVH<S>& bvh, const BasicRay<S>& ray) {
+  const EntryTable& e = Access::entries(bvh);
+  return in_precision<S>(e.bvh_intersect, e.bvh_intersect_d)(Access::data(bvh), ray);
+}
+
+template <Scalar S>
+bool tree_occluded(const BasicSphereBVH<S>& bvh, const BasicRay<S>& ray) {
+  const EntryTable& e = Access::entries(bvh);
+  return in_precision<S>(e.bvh_occluded, e.bvh_occluded_d)(Access::data(bvh), ray);
+}
+
+template <Scalar S>
+void tree_intersect(const BasicSphereBVH<S>& bvh, std::span<const BasicRay<S>> rays,
+                    std::span<BasicHit<S>> hits) {
+  if (rays.size() != hits.size())
+    throw std::length_error("sphray::intersect: rays and hits differ in size");
+  const EntryTable& e = Access::entries(bvh);
+  in_precision<S>(e.bvh_intersect_stream, e.bvh_intersect_stream_d)(Access::data(bvh), rays.data(),
+                                                                    hits.data(), rays.size());
+}
+
+template <Scalar S>
+void tree_occluded(const BasicSphereBVH<S>& bvh, std::span<const BasicRay<S>> rays,
+                   std::span<bool> blocked) {
+  if (rays.size() != blocked.size())
+    throw std::length_error("sphray::occluded: rays and blocked differ in size");
+  const EntryTable& e = Access::entries(bvh);
+  in_precision<S>(e.bvh_occluded_stream, e.bvh_occluded_stream_d)(Access::data(bvh), rays.data(),
+                                                                  blocked.data(), rays.size());
+}
+
+}  // namespace
+
 Hit intersect(const SphereBVH& bvh, const Ray& ray) {
-  using A = detail::BvhAccess;
-  return A::entries(bvh).bvh_intersect(A::data(bvh), ray);
+  return tree_intersect(bvh, ray);
 }
 
 bool occluded(const SphereBVH& bvh, const Ray& ray) {
-  using A = detail::BvhAccess;
-  return A::entries(bvh).bvh_occluded(A::data(bvh), ray);
+  return tree_occluded(bvh, ray);
 }
 
 void intersect(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> hits) {
-  if (rays.size() != hits.size())
-    throw std::length_error("sphray::intersect: rays and hits differ in size");
-  using A = detail::BvhAccess;
-  A::entries(bvh).bvh_intersect_stream(A::data(bvh), rays.data(), hits.data(), rays.size());
+  tree_intersect(bvh, rays, hits);
 }
 
 void intersect(const SphereBVH& bvh, const RayArrays& rays, const HitArrays& hits) {
   detail::check_arrays(rays, hits);
-  using A = detail::BvhAccess;
-  A::entries(bvh).bvh_intersect_arrays(A::data(bvh), rays, hits);
+  Access::entries(bvh).bvh_intersect_arrays(Access::data(bvh), rays, hits);
 }
 
 void occluded(const SphereBVH& bvh, std::span<const Ray> rays, std::span<bool> blocked) {
-  if (rays.size() != blocked.size())
-    throw std::length_error("sphray::occluded: rays and blocked differ in size");
-  using A = detail::BvhAccess;
-  A::entries(bvh).bvh_occluded_stream(A::data(bvh), rays.data(), blocked.data(), rays.size());
+  tree_occluded(bvh, rays, blocked);
 }
 
 Hitd intersect(const SphereBVHd& bvh, const Rayd& ray) {
-  using A = detail::BvhAccess;
-  return A::entries(bvh).bvh_intersect_d(A::data(bvh), ray);
+  return tree_intersect(bvh, ray);
 }
 
 bool occluded(const SphereBVHd& bvh, const Rayd& ray) {
-  using A = detail::BvhAccess;
-  return A::entries(bvh).bvh_occluded_d(A::data(bvh), ray);
+  return tree_occluded(bvh, ray);
 }
 
 void intersect(const SphereBVHd& bvh, std::span<const Rayd> rays, std::span<Hitd> hits) {
-  if (rays.size() != hits.size())
-    throw std::length_error("sphray::intersect: rays and hits differ in size");
-  using A = detail::BvhAccess;
-  A::entries(bvh).bvh_intersect_stream_d(A::data(bvh), rays.data(), hits.data(), rays.size());
+  tree_intersect(bvh, rays, hits);
 }
 
 void occluded(const SphereBVHd& bvh, std::span<const Rayd> rays, std::span<bool> blocked) {
-  if (rays.size() != blocked.size())
-    throw std::length_error("sphray::occluded: rays and blocked differ in size");
-  using A = detail::BvhAccess;
-  A::entries(bvh).bvh_occluded_stream_d(A::data(bvh), rays.data(), blocked.data(), rays.size());
+  tree_occluded(bvh, rays, blocked);
 }
 
 }  // namespace sphray

@@ -105,7 +105,7 @@ struct alignas(16) Prim {
   // the three moves bounds the distance) and rounded up. The rounding of that sum in double is
   // far below the box's own widening (half_extent). A centre beyond float's range is clamped
   // to it with an infinite radius: an unbounded box, which every ray enters.
-  static Prim enclosing(double x, double y, double z, double r) {
+  static Prim make(double x, double y, double z, double r) {
     if (!valid_sphere<double>({x, y, z}, r)) return {{0.0f, 0.0f, 0.0f, -kInf}};
     constexpr double kMax = 0x1.fffffep127;  // FLT_MAX
     const double c[3] = {x, y, z};
@@ -122,7 +122,6 @@ struct alignas(16) Prim {
     p.sphere[3] = rf;
     return p;
   }
-  static Prim make(double x, double y, double z, double r) { return enclosing(x, y, z, r); }
   // The centre in lanes 0-2 (lane 3: the radius, which binning multiplies by 0).
   Lanes centre() const { return Lanes::load_aligned(sphere); }
   // The sphere's box, lo and hi, in lanes 0-2 (lane 3 is not used).

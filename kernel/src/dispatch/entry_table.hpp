@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 #include "sphray/isa.hpp"
@@ -98,6 +99,15 @@ struct EntryTable {
   std::size_t (*bvh_intersect_nearest_d)(const BvhDatad& bvh, const Rayd& ray, Hitd* hits,
                                          bool* exits, std::size_t capacity);
 };
+
+/// Of an entry point's float and double forms (intersect and intersect_d, ...), the one for S.
+template <Scalar S, class Float, class Double>
+auto in_precision(Float float_entry, Double double_entry) {
+  if constexpr (std::is_same_v<S, float>)
+    return float_entry;
+  else
+    return double_entry;
+}
 
 /// The kernel for isa, or nullptr if this build lacks it or this machine cannot run it.
 const EntryTable* find_entries(Isa isa);
