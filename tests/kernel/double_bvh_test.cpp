@@ -121,6 +121,52 @@ TEST(DoubleTree, SpheresBeyondFloatsRangeAreHit) {
   }
 }
 
+// Spheres so small and so near the origin (|c| + r below 2^-130) that float's boxes are made
+// of denormals, where 2^-20 of a coordinate rounds to nothing: rays grazing them, whose hits
+// double's rounding puts just outside the exact sphere, must still enter the box. The first
+// case was found by the kernel fuzzer: a ray 2^-264 outside a sphere of radius 2^-133 that
+// touches the plane z = 0. The others are alike: spheres on float's grid (2^-149) touching a
+// coordinate plane, passed by rays a relative 2^-60 or so beyond it, where double rounds the
+// distance to the radius.
+TEST(DoubleTree, GrazingHitsOnSpheresBelowFloatsNormals) {
+  std::mt19937 rng(3716);
+  DoubleSpheres scene;
+  scene.add({0.0, 0x1.7d8cp-254, 0x1.fffffep-133}, 0x1.fffffep-133);
+  const Rayd found{{-0x1.72ap-257, 0x1.d7p-259, -0x1.bp-264}, {-0x1.45p+384, 0x1.42p+383, 0.0}};
+  const auto on_grid = [&](int lo, int hi) {
+    return std::ldexp(static_cast<double>(lo + static_cast<int>(rng() % (hi - lo + 1))), -149);
+  };
+  const auto at = [](Vec3d& v, int axis) -> double& {
+    return axis == 0 ? v.x : axis == 1 ? v.y : v.z;
+  };
+  for (std::size_t i = 0; i < 300; ++i) {
+    // Sphere i touches the plane through the origin across axis i % 3.
+    const double r = on_grid(4, 64);
+    Vec3d c{on_grid(-1024, 1024), on_grid(-1024, 1024), on_grid(-1024, 1024)};
+    at(c, static_cast<int>(i % 3)) = rng() % 2 ? r : -r;
+    scene.add(c, r);
+  }
+  const SphereViewd v = scene.view();
+  for (const EntryTable* k : test::runnable_kernels()) {
+    const SphereBVHd tree(v, k->isa);
+    EXPECT_TRUE(expect_tree_answers(tree, v, found)) << test::name_of(k);
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < test::scaled(1000); ++i) {
+      // Along another axis, from outside every sphere, just beyond the plane sphere id touches.
+      const auto id = static_cast<std::uint32_t>(1 + rng() % (scene.size() - 1));
+      const int plane = static_cast<int>((id - 1) % 3), along = (plane + 1 + rng() % 2) % 3;
+      Vec3d origin{v.cx[id], v.cy[id], v.cz[id]}, dir{0, 0, 0};
+      const double beyond = v.radius[id] * std::ldexp(static_cast<double>(rng() % 5), -60);
+      at(origin, plane) = at(origin, plane) > 0 ? -beyond : beyond;
+      at(origin, along) -= 0x1p-130;
+      at(dir, along) = 1.0;
+      hits += expect_tree_answers(tree, v, Rayd{origin, dir}) ? 1 : 0;
+      if (HasFailure()) return;
+    }
+    EXPECT_GT(hits, 0u) << test::name_of(k);
+  }
+}
+
 // The contract's invalid spheres among valid ones never widen a box or get hit, and invalid
 // rays miss with t == tmax, through the walk.
 TEST(DoubleTree, InvalidRaysAndSpheresMiss) {

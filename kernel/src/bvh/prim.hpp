@@ -80,8 +80,14 @@ struct BoxLanes {
 // coordinate's magnitude. That is more than the rounding of c -+ e, and enough to hold a grazing
 // hit that the kernel's own rounding puts just outside the exact sphere. Per lane: r holds the
 // radius in every lane.
+// The widening is at least float's smallest step, 2^-149: a double sphere can be so small and
+// so near the origin (|c| + r below 2^-130) that 2^-20 of it rounds to nothing in float, while
+// double's rounding still puts a grazing hit outside the exact sphere, by far less than 2^-149.
+// A float sphere is never that small (its radius is at least 2^-63), and there the floor is
+// below half an ulp of the sum: float trees come out bit for bit as without it.
 inline Lanes half_extent(const Lanes& c, const Lanes& r) {
-  return r + (xsimd::abs(c) + r) * Lanes(0x1p-20f);
+  constexpr float kSmallestStep = 0x1p-149f;
+  return r + ((xsimd::abs(c) + r) * Lanes(0x1p-20f) + Lanes(kSmallestStep));
 }
 
 // One sphere as the builder sees it, 16 bytes: its centre and radius, one aligned load. The
