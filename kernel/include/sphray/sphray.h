@@ -47,6 +47,7 @@ extern "C" {
 #define SPHRAY_ERROR_OUT_OF_MEMORY 4    /* an allocation failed; nothing was changed */
 #define SPHRAY_ERROR_RELEASED_SCENE 5   /* the scene handle was released */
 #define SPHRAY_ERROR_INTERNAL 6         /* anything else the library caught; a bug */
+#define SPHRAY_ERROR_PRECISION 7        /* a float call on a double scene, or the other way */
 
 /* How a scene answers queries. AUTO: a BVH from 128 spheres on, brute force below (the
  * renderer's measured crossover, docs/bvh.md). Both give the same hits, bit for bit. */
@@ -299,6 +300,73 @@ SPHRAY_API int sphray_inside(const sphray_scene* scene, const float* points, siz
  * and no options. */
 SPHRAY_API int sphray_overlapping(const sphray_scene* scene, const float* centre, float radius,
                                   size_t capacity, uint32_t* ids, size_t* total);
+
+/* ---- Double precision (docs/double.md) ----
+ *
+ * A scene holds its spheres in the precision it was created in: sphray_scene_create gives a
+ * float scene, sphray_scene_create_d a double one. A double scene answers the _d queries below,
+ * with the C++ API's double kernel and its bits (no conversion anywhere); a float query on it,
+ * or a _d query on a float scene, fails with SPHRAY_ERROR_PRECISION. sphray_scene_isa,
+ * sphray_scene_set_masks, sphray_scene_size and sphray_scene_release take scenes of either
+ * precision. The point queries (sphray_nearest, sphray_inside, sphray_overlapping) and
+ * sphray_intersect_arrays are float only, for now. */
+#define SPHRAY_PRECISION_FLOAT 0
+#define SPHRAY_PRECISION_DOUBLE 1
+
+/* The scene's precision, SPHRAY_PRECISION_FLOAT or _DOUBLE, in *precision. */
+SPHRAY_API int sphray_scene_precision(const sphray_scene* scene, int* precision);
+
+/* sphray_ray, sphray_hit and sphray_hit_surface in double. */
+typedef struct sphray_ray_d {
+  double ox, oy, oz;
+  double dx, dy, dz;
+  double tmin, tmax;
+} sphray_ray_d;
+
+typedef struct sphray_hit_d {
+  double t;
+  uint32_t id;
+} sphray_hit_d;
+
+typedef struct sphray_hit_surface_d {
+  double px, py, pz;
+  double nx, ny, nz;
+  double ex, ey, ez;
+  int32_t front_face;
+} sphray_hit_surface_d;
+
+/* A double scene: as sphray_scene_create, with double arrays (stride_bytes 0 for packed
+ * doubles, else a positive multiple of 8; pointers aligned for double). A sphere is valid in
+ * double's range (docs/double.md, "The contract in double"). */
+SPHRAY_API int sphray_scene_create_d(const double* cx, const double* cy, const double* cz,
+                                     const double* r, size_t count, size_t stride_bytes,
+                                     const sphray_scene_args* args, sphray_scene** out);
+
+/* sphray_scene_refit for a double scene. */
+SPHRAY_API int sphray_scene_refit_d(sphray_scene* scene, const double* cx, const double* cy,
+                                    const double* cz, const double* r, size_t count,
+                                    size_t stride_bytes);
+
+/* The queries above, on a double scene, with the same arguments in double. */
+SPHRAY_API int sphray_intersect_d(const sphray_scene* scene, const sphray_ray_d* rays, size_t count,
+                                  sphray_hit_d* hits, const sphray_query_args* args);
+SPHRAY_API int sphray_occluded_d(const sphray_scene* scene, const sphray_ray_d* rays, size_t count,
+                                 unsigned char* occluded, const sphray_query_args* args);
+SPHRAY_API int sphray_surface_d(const sphray_scene* scene, const sphray_ray_d* rays,
+                                const sphray_hit_d* hits, size_t count,
+                                sphray_hit_surface_d* surfaces);
+SPHRAY_API int sphray_spawn_d(const sphray_hit_surface_d* surfaces, const double* dirs,
+                              size_t count, sphray_ray_d* rays);
+SPHRAY_API int sphray_intersect_all_d(const sphray_scene* scene, const sphray_ray_d* rays,
+                                      size_t count, size_t max_hits, sphray_hit_d* hits,
+                                      unsigned char* exits, size_t* counts,
+                                      const sphray_query_args* args);
+SPHRAY_API int sphray_intersect_nearest_d(const sphray_scene* scene, const sphray_ray_d* rays,
+                                          size_t count, size_t max_hits, sphray_hit_d* hits,
+                                          unsigned char* exits, size_t* counts,
+                                          const sphray_query_args* args);
+SPHRAY_API int sphray_count_hits_d(const sphray_scene* scene, const sphray_ray_d* rays,
+                                   size_t count, size_t* counts, const sphray_query_args* args);
 
 #ifdef __cplusplus
 } /* extern "C" */

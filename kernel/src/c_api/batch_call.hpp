@@ -36,16 +36,18 @@ inline int read_args(const sphray_query_args* args, Inputs inputs, const char* f
   return SPHRAY_OK;
 }
 
-/// The checks a batch query starts with: args into options; then, for a count of 0, a live
-/// scene alone (empty work: the arrays may be NULL), otherwise the scene, the input and
-/// output arrays and the count. The caller returns on a failure and on a count of 0.
-inline int check_batch(const sphray_scene* scene, const void* in, const void* out,
-                       std::size_t count, const sphray_query_args* args, Inputs inputs,
-                       const char* function, QueryOptions& options) noexcept {
+/// The checks a batch query of precision S starts with: args into options; then, for a count of
+/// 0, a live scene of precision S alone (empty work: the arrays may be NULL), otherwise the
+/// scene, the input and output arrays and the count. The caller returns on a failure and on a
+/// count of 0.
+template <Scalar S = float>
+int check_batch(const sphray_scene* scene, const void* in, const void* out, std::size_t count,
+                const sphray_query_args* args, Inputs inputs, const char* function,
+                QueryOptions& options) noexcept {
   if (int status = read_args(args, inputs, function, options); status != SPHRAY_OK) return status;
-  if (count == 0) return check_scene(scene, function);
-  return check_query(scene, in, out, count, function,
-                     inputs == Inputs::rays ? "rays is NULL" : "points is NULL");
+  if (count == 0) return check_scene_in<S>(scene, function);
+  return check_query<S>(scene, in, out, count, function,
+                        inputs == Inputs::rays ? "rays is NULL" : "points is NULL");
 }
 
 /// range(worker, begin, end) over [0, count) on the threads options ask for; SPHRAY_OK, or the

@@ -1,5 +1,5 @@
-// sphray_intersect_all, sphray_intersect_nearest, sphray_count_hits, sphray_nearest,
-// sphray_inside, sphray_overlapping:
+// sphray_intersect_all, sphray_intersect_nearest, sphray_count_hits (and their _d forms),
+// sphray_nearest, sphray_inside, sphray_overlapping:
 // the queries beyond the closest hit (docs/queries.md), converted to and from the C structs,
 // answered by the C++ API.
 #include <algorithm>
@@ -30,14 +30,16 @@ enum class Crossings { all, nearest };
 // The crossings of one ray into its slots of hits and exits, through slots and flags (the C++
 // types: sphray_hit and unsigned char are other types); returns the total (all) or how many
 // were written (nearest).
-std::size_t crossings(const Scene& scene, Crossings which, const Ray& ray, std::span<Hit> slots,
-                      std::span<bool> flags, sphray_hit* hits, unsigned char* exits) {
+template <Scalar S>
+std::size_t crossings(const BasicScene<S>& scene, Crossings which, const BasicRay<S>& ray,
+                      std::span<BasicHit<S>> slots, std::span<bool> flags, CHit<S>* hits,
+                      unsigned char* exits) {
   const std::size_t total = scene.answer([&](const auto& spheres) {
     return which == Crossings::all ? sphray::intersect_all(spheres, ray, slots, flags)
                                    : sphray::intersect_nearest(spheres, ray, slots, flags);
   });
   for (std::size_t k = 0; k < std::min(slots.size(), total); ++k) {
-    hits[k] = {slots[k].t, slots[k].id};
+    hits[k] = to_c(slots[k]);
     if (exits != nullptr) exits[k] = flags[k] ? 1 : 0;
   }
   return total;
@@ -45,6 +47,7 @@ std::size_t crossings(const Scene& scene, Crossings which, const Ray& ray, std::
 
 // Buffers for one ray's crossings in the C++ types, per worker thread: on the stack up to
 // kStackSlots, beyond that the worker's share of one heap buffer made before the threads start.
+template <Scalar S>
 class SlotBuffers {
  public:
   SlotBuffers(std::size_t max_hits, unsigned workers) : max_hits_(max_hits) {
@@ -57,47 +60,66 @@ class SlotBuffers {
   template <class Use>
   void with(unsigned worker, Use&& use) {
     if (max_hits_ <= kStackSlots) {
-      std::array<sphray::Hit, kStackSlots> slots;
+      std::array<BasicHit<S>, kStackSlots> slots;
       std::array<bool, kStackSlots> flags;
-      use(std::span<sphray::Hit>(slots.data(), max_hits_),
+      use(std::span<BasicHit<S>>(slots.data(), max_hits_),
           std::span<bool>(flags.data(), max_hits_));
       return;
     }
     const std::size_t first = worker * max_hits_;
-    use(std::span<sphray::Hit>(heap_slots_.data() + first, max_hits_),
+    use(std::span<BasicHit<S>>(heap_slots_.data() + first, max_hits_),
         std::span<bool>(heap_flags_.get() + first, max_hits_));
   }
 
  private:
   std::size_t max_hits_;
-  std::vector<sphray::Hit> heap_slots_;
+  std::vector<BasicHit<S>> heap_slots_;
   std::unique_ptr<bool[]> heap_flags_;
 };
 
-int intersect_all(const sphray_scene* scene, Crossings which, const sphray_ray* rays, size_t count,
-                  size_t max_hits, sphray_hit* hits, unsigned char* exits, size_t* counts,
+// sphray_intersect_all, _intersect_nearest and their _d forms.
+template <Scalar S>
+int intersect_all(const sphray_scene* scene, Crossings which, const CRay<S>* rays, size_t count,
+                  size_t max_hits, CHit<S>* hits, unsigned char* exits, size_t* counts,
                   const sphray_query_args* args, const char* function) {
   QueryOptions options;
-  int status = check_batch(scene, rays, counts, count, args, Inputs::rays, function, options);
+  int status = check_batch<S>(scene, rays, counts, count, args, Inputs::rays, function, options);
   if (status != SPHRAY_OK || count == 0) return status;
   if (max_hits > 0) {
     if (status = check_pointer(hits, function, "hits is NULL"); status != SPHRAY_OK) return status;
-    if (max_hits > kMaxElements / count)
+    if (max_hits > kMaxElements<S> / count)
       return fail(SPHRAY_ERROR_TOO_LARGE, function, "count * max_hits exceeds the address space");
   }
   const unsigned workers = parallel_threads(count, options.threads);
+  const BasicScene<S>& in = *scene->scene->in<S>();
   return guarded(function, [&] {
-    SlotBuffers buffers(max_hits, workers);
+    SlotBuffers<S> buffers(max_hits, workers);
     parallel_chunks(count, workers, [&](unsigned worker, std::size_t begin, std::size_t end) {
-      buffers.with(worker, [&](std::span<sphray::Hit> slots, std::span<bool> flags) {
+      buffers.with(worker, [&](std::span<BasicHit<S>> slots, std::span<bool> flags) {
         for (std::size_t i = begin; i < end; ++i) {
-          counts[i] = crossings(*scene->scene, which, to_ray(rays, options.masks, i), slots, flags,
+          counts[i] = crossings(in, which, to_ray(rays, options.masks, i), slots, flags,
                                 hits == nullptr ? nullptr : hits + i * max_hits,
                                 exits == nullptr ? nullptr : exits + i * max_hits);
         }
       });
     });
     return SPHRAY_OK;
+  });
+}
+
+// sphray_count_hits and _count_hits_d.
+template <Scalar S>
+int count_hits(const sphray_scene* scene, const CRay<S>* rays, size_t count, size_t* counts,
+               const sphray_query_args* args, const char* function) {
+  QueryOptions options;
+  const int status =
+      check_batch<S>(scene, rays, counts, count, args, Inputs::rays, function, options);
+  if (status != SPHRAY_OK || count == 0) return status;
+  return run_batch(function, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
+    scene->scene->in<S>()->answer([&](const auto& spheres) {
+      for (std::size_t i = begin; i < end; ++i)
+        counts[i] = sphray::count_hits(spheres, to_ray(rays, options.masks, i));
+    });
   });
 }
 
@@ -111,30 +133,39 @@ extern "C" {
 int sphray_intersect_all(const sphray_scene* scene, const sphray_ray* rays, size_t count,
                          size_t max_hits, sphray_hit* hits, unsigned char* exits, size_t* counts,
                          const sphray_query_args* args) {
-  return intersect_all(scene, Crossings::all, rays, count, max_hits, hits, exits, counts, args,
-                       "sphray_intersect_all");
+  return intersect_all<float>(scene, Crossings::all, rays, count, max_hits, hits, exits, counts,
+                              args, "sphray_intersect_all");
+}
+
+int sphray_intersect_all_d(const sphray_scene* scene, const sphray_ray_d* rays, size_t count,
+                           size_t max_hits, sphray_hit_d* hits, unsigned char* exits,
+                           size_t* counts, const sphray_query_args* args) {
+  return intersect_all<double>(scene, Crossings::all, rays, count, max_hits, hits, exits, counts,
+                               args, "sphray_intersect_all_d");
 }
 
 int sphray_intersect_nearest(const sphray_scene* scene, const sphray_ray* rays, size_t count,
                              size_t max_hits, sphray_hit* hits, unsigned char* exits,
                              size_t* counts, const sphray_query_args* args) {
-  return intersect_all(scene, Crossings::nearest, rays, count, max_hits, hits, exits, counts, args,
-                       "sphray_intersect_nearest");
+  return intersect_all<float>(scene, Crossings::nearest, rays, count, max_hits, hits, exits, counts,
+                              args, "sphray_intersect_nearest");
+}
+
+int sphray_intersect_nearest_d(const sphray_scene* scene, const sphray_ray_d* rays, size_t count,
+                               size_t max_hits, sphray_hit_d* hits, unsigned char* exits,
+                               size_t* counts, const sphray_query_args* args) {
+  return intersect_all<double>(scene, Crossings::nearest, rays, count, max_hits, hits, exits,
+                               counts, args, "sphray_intersect_nearest_d");
 }
 
 int sphray_count_hits(const sphray_scene* scene, const sphray_ray* rays, size_t count,
                       size_t* counts, const sphray_query_args* args) {
-  constexpr const char* kFunction = "sphray_count_hits";
-  QueryOptions options;
-  const int status =
-      check_batch(scene, rays, counts, count, args, Inputs::rays, kFunction, options);
-  if (status != SPHRAY_OK || count == 0) return status;
-  return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
-    scene->scene->answer([&](const auto& spheres) {
-      for (std::size_t i = begin; i < end; ++i)
-        counts[i] = sphray::count_hits(spheres, to_ray(rays, options.masks, i));
-    });
-  });
+  return count_hits<float>(scene, rays, count, counts, args, "sphray_count_hits");
+}
+
+int sphray_count_hits_d(const sphray_scene* scene, const sphray_ray_d* rays, size_t count,
+                        size_t* counts, const sphray_query_args* args) {
+  return count_hits<double>(scene, rays, count, counts, args, "sphray_count_hits_d");
 }
 
 int sphray_nearest(const sphray_scene* scene, const float* points, size_t count, float max_distance,
@@ -145,7 +176,7 @@ int sphray_nearest(const sphray_scene* scene, const float* points, size_t count,
       check_batch(scene, points, out, count, args, Inputs::points, kFunction, options);
   if (status != SPHRAY_OK || count == 0) return status;
   return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
-    scene->scene->answer([&](const auto& spheres) {
+    scene->scene->in<float>()->answer([&](const auto& spheres) {
       for (std::size_t i = begin; i < end; ++i) {
         const sphray::Nearest n = sphray::nearest(spheres, point_at(points, i), max_distance);
         out[i] = {n.id, n.distance, n.point.x, n.point.y, n.point.z};
@@ -162,7 +193,7 @@ int sphray_inside(const sphray_scene* scene, const float* points, size_t count,
       check_batch(scene, points, inside, count, args, Inputs::points, kFunction, options);
   if (status != SPHRAY_OK || count == 0) return status;
   return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
-    scene->scene->answer([&](const auto& spheres) {
+    scene->scene->in<float>()->answer([&](const auto& spheres) {
       for (std::size_t i = begin; i < end; ++i)
         inside[i] = sphray::inside(spheres, point_at(points, i)) ? 1 : 0;
     });
@@ -172,17 +203,17 @@ int sphray_inside(const sphray_scene* scene, const float* points, size_t count,
 int sphray_overlapping(const sphray_scene* scene, const float* centre, float radius,
                        size_t capacity, uint32_t* ids, size_t* total) {
   constexpr const char* kFunction = "sphray_overlapping";
-  int status = check_scene(scene, kFunction);
+  int status = check_scene_in<float>(scene, kFunction);
   if (status == SPHRAY_OK) status = check_pointer(centre, kFunction, "centre is NULL");
   if (status == SPHRAY_OK) status = check_pointer(total, kFunction, "total is NULL");
   if (status == SPHRAY_OK && capacity > 0) status = check_pointer(ids, kFunction, "ids is NULL");
-  if (status == SPHRAY_OK && capacity > kMaxElements)
+  if (status == SPHRAY_OK && capacity > kMaxElements<>)
     status = fail(SPHRAY_ERROR_TOO_LARGE, kFunction, "capacity exceeds the address space");
   if (status != SPHRAY_OK) return status;
   return guarded(kFunction, [&] {
     const sphray::Vec3 c{centre[0], centre[1], centre[2]};
     const std::span<std::uint32_t> out(ids, capacity);
-    *total = scene->scene->answer(
+    *total = scene->scene->in<float>()->answer(
         [&](const auto& spheres) { return sphray::overlapping(spheres, c, radius, out); });
     return SPHRAY_OK;
   });

@@ -3,6 +3,7 @@
 // docs/decisions.md).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 
@@ -11,25 +12,70 @@
 
 namespace sphray::c_api {
 
-inline Ray to_ray(const sphray_ray& r, std::uint32_t mask = kAllBits) {
+/// The C structs of precision S.
+template <Scalar S>
+struct CTypes;
+template <>
+struct CTypes<float> {
+  using Ray = sphray_ray;
+  using Hit = sphray_hit;
+  using Surface = sphray_hit_surface;
+};
+template <>
+struct CTypes<double> {
+  using Ray = sphray_ray_d;
+  using Hit = sphray_hit_d;
+  using Surface = sphray_hit_surface_d;
+};
+template <Scalar S>
+using CRay = typename CTypes<S>::Ray;
+template <Scalar S>
+using CHit = typename CTypes<S>::Hit;
+template <Scalar S>
+using CSurface = typename CTypes<S>::Surface;
+
+/// The scalar of a C struct: float for sphray_ray, double for sphray_ray_d, ...
+template <class CStruct>
+using ScalarOf = decltype(CStruct::tmin);
+
+template <class CRayStruct>
+BasicRay<ScalarOf<CRayStruct>> to_ray(const CRayStruct& r, std::uint32_t mask = kAllBits) {
   return {{r.ox, r.oy, r.oz}, {r.dx, r.dy, r.dz}, r.tmin, r.tmax, mask};
 }
 
 /// The i-th ray with its mask, masks being null (every bit) or one mask per ray.
-inline Ray to_ray(const sphray_ray* rays, const std::uint32_t* masks, std::size_t i) {
+template <class CRayStruct>
+BasicRay<ScalarOf<CRayStruct>> to_ray(const CRayStruct* rays, const std::uint32_t* masks,
+                                      std::size_t i) {
   return to_ray(rays[i], masks == nullptr ? kAllBits : masks[i]);
 }
 
-inline sphray_ray to_c(const Ray& r) {
+template <Scalar S>
+CRay<S> to_c(const BasicRay<S>& r) {
   return {r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
 }
 
-inline sphray_hit_surface to_c(const Surface& s) {
+template <Scalar S>
+CHit<S> to_c(const BasicHit<S>& h) {
+  return {h.t, h.id};
+}
+
+inline Hit from_c(const sphray_hit& h) {
+  return {h.t, h.id};
+}
+
+inline Hitd from_c(const sphray_hit_d& h) {
+  return {h.t, h.id};
+}
+
+template <Scalar S>
+CSurface<S> to_c(const BasicSurface<S>& s) {
   return {s.point.x,  s.point.y, s.point.z, s.normal.x, s.normal.y,
           s.normal.z, s.error.x, s.error.y, s.error.z,  s.front_face ? 1 : 0};
 }
 
-inline Surface from_c(const sphray_hit_surface& s) {
+template <class CSurfaceStruct>
+BasicSurface<decltype(CSurfaceStruct::px)> from_c(const CSurfaceStruct& s) {
   return {{s.px, s.py, s.pz}, {s.nx, s.ny, s.nz}, s.front_face != 0, {s.ex, s.ey, s.ez}};
 }
 

@@ -63,6 +63,8 @@ const char* sphray_status_name(int status) {
       return "SPHRAY_ERROR_RELEASED_SCENE";
     case SPHRAY_ERROR_INTERNAL:
       return "SPHRAY_ERROR_INTERNAL";
+    case SPHRAY_ERROR_PRECISION:
+      return "SPHRAY_ERROR_PRECISION";
   }
   return "unknown status";
 }

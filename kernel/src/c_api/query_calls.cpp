@@ -1,6 +1,7 @@
-// sphray_intersect, sphray_occluded, sphray_intersect_arrays, sphray_surface, sphray_spawn: each
-// converts between the C structs and sphray::Ray / Hit / Surface (or hands the arrays over as
-// RayArrays / HitArrays) and calls the C++ API, on the threads its sphray_query_args ask for.
+// sphray_intersect, sphray_occluded, sphray_intersect_arrays, sphray_surface, sphray_spawn, and
+// the _d forms of all but the arrays': each converts between the C structs and sphray::Ray /
+// Hit / Surface in their precision (or hands the arrays over as RayArrays / HitArrays) and calls
+// the C++ API, on the threads its sphray_query_args ask for.
 #include <algorithm>
 #include <array>
 
@@ -18,16 +19,16 @@ constexpr std::size_t kStreamChunk = 256;
 
 // out[i] for i in [begin, end) from a C++ stream call, query(spheres, rays, answers), a stack
 // chunk at a time; to_c turns each answer into its C form. masks: null, or one per ray.
-template <class Answer, class Out, class Query, class ToC>
-void stream_range(const Scene& scene, const sphray_ray* rays, const std::uint32_t* masks, Out* out,
-                  std::size_t begin, std::size_t end, Query query, ToC to_c) {
-  std::array<Ray, kStreamChunk> in;
+template <class Answer, Scalar S, class Out, class Query, class ToC>
+void stream_range(const BasicScene<S>& scene, const CRay<S>* rays, const std::uint32_t* masks,
+                  Out* out, std::size_t begin, std::size_t end, Query query, ToC to_c) {
+  std::array<BasicRay<S>, kStreamChunk> in;
   std::array<Answer, kStreamChunk> answers;
   for (std::size_t start = begin; start < end; start += kStreamChunk) {
     const std::size_t n = std::min(kStreamChunk, end - start);
     for (std::size_t i = 0; i < n; ++i)
       in[i] = to_ray(rays, masks, start + i);
-    const std::span<const Ray> batch(in.data(), n);
+    const std::span<const BasicRay<S>> batch(in.data(), n);
     const std::span<Answer> results(answers.data(), n);
     scene.answer([&](const auto& spheres) { query(spheres, batch, results); });
     for (std::size_t i = 0; i < n; ++i)
@@ -35,29 +36,73 @@ void stream_range(const Scene& scene, const sphray_ray* rays, const std::uint32_
   }
 }
 
-// Closest hits through intersect(.., rays, hits).
-void intersect_range(const Scene& scene, const sphray_ray* rays, const std::uint32_t* masks,
-                     sphray_hit* hits, std::size_t begin, std::size_t end) {
-  stream_range<Hit>(
-      scene, rays, masks, hits, begin, end,
-      [](const auto& spheres, std::span<const Ray> in, std::span<Hit> out) {
-        sphray::intersect(spheres, in, out);
-      },
-      [](const Hit& h) {
-        return sphray_hit{h.t, h.id};
-      });
+// sphray_intersect and _intersect_d: closest hits through intersect(.., rays, hits).
+template <Scalar S>
+int closest_hits(const sphray_scene* scene, const CRay<S>* rays, std::size_t count, CHit<S>* hits,
+                 const sphray_query_args* args, const char* function) {
+  QueryOptions options;
+  const int status =
+      check_batch<S>(scene, rays, hits, count, args, Inputs::rays, function, options);
+  if (status != SPHRAY_OK || count == 0) return status;
+  return run_batch(function, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
+    stream_range<BasicHit<S>>(
+        *scene->scene->in<S>(), rays, options.masks, hits, begin, end,
+        [](const auto& spheres, auto in, auto out) { sphray::intersect(spheres, in, out); },
+        [](const BasicHit<S>& h) { return to_c(h); });
+  });
 }
 
-// Occlusion through occluded(.., rays, blocked): on a tree, coherent rays (shadow rays towards
-// one light) go in packets.
-void occluded_range(const Scene& scene, const sphray_ray* rays, const std::uint32_t* masks,
-                    unsigned char* occluded, std::size_t begin, std::size_t end) {
-  stream_range<bool>(
-      scene, rays, masks, occluded, begin, end,
-      [](const auto& spheres, std::span<const Ray> in, std::span<bool> out) {
-        sphray::occluded(spheres, in, out);
-      },
-      [](bool blocked) -> unsigned char { return blocked ? 1 : 0; });
+// sphray_occluded and _occluded_d: occlusion through occluded(.., rays, blocked); on a tree,
+// coherent rays (shadow rays towards one light) go in packets.
+template <Scalar S>
+int occlusions(const sphray_scene* scene, const CRay<S>* rays, std::size_t count,
+               unsigned char* blocked, const sphray_query_args* args, const char* function) {
+  QueryOptions options;
+  const int status =
+      check_batch<S>(scene, rays, blocked, count, args, Inputs::rays, function, options);
+  if (status != SPHRAY_OK || count == 0) return status;
+  return run_batch(function, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
+    stream_range<bool>(
+        *scene->scene->in<S>(), rays, options.masks, blocked, begin, end,
+        [](const auto& spheres, auto in, auto out) { sphray::occluded(spheres, in, out); },
+        [](bool b) -> unsigned char { return b ? 1 : 0; });
+  });
+}
+
+// sphray_surface and _surface_d.
+template <Scalar S>
+int surfaces_at(const sphray_scene* scene, const CRay<S>* rays, const CHit<S>* hits,
+                std::size_t count, CSurface<S>* surfaces, const char* function) {
+  if (count == 0) return check_scene_in<S>(scene, function);  // empty work
+  if (int status = check_query<S>(scene, rays, surfaces, count, function); status != SPHRAY_OK)
+    return status;
+  if (int status = check_pointer(hits, function, "hits is NULL"); status != SPHRAY_OK)
+    return status;
+  return guarded(function, [&] {
+    const BasicSphereView<S> view = scene->scene->in<S>()->spheres.view();
+    for (std::size_t i = 0; i < count; ++i)
+      surfaces[i] = to_c(sphray::surface(view, to_ray(rays[i]), from_c(hits[i])));
+    return SPHRAY_OK;
+  });
+}
+
+// sphray_spawn and _spawn_d.
+template <Scalar S>
+int spawned_rays(const CSurface<S>* surfaces, const S* dirs, std::size_t count, CRay<S>* rays,
+                 const char* function) {
+  if (count == 0) return SPHRAY_OK;  // empty work: nothing read, nothing written
+  int status = check_pointer(surfaces, function, "surfaces is NULL");
+  if (status == SPHRAY_OK) status = check_pointer(dirs, function, "dirs is NULL");
+  if (status == SPHRAY_OK) status = check_pointer(rays, function, "rays is NULL");
+  if (status == SPHRAY_OK) status = check_count<S>(count, function);
+  if (status != SPHRAY_OK) return status;
+  return guarded(function, [&] {
+    for (std::size_t i = 0; i < count; ++i) {
+      const BasicVec3<S> dir{dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2]};
+      rays[i] = to_c(sphray::spawn(from_c(surfaces[i]), dir));
+    }
+    return SPHRAY_OK;
+  });
 }
 
 // The arrays' rays [begin, end) as RayArrays, with their masks (null: every bit).
@@ -77,25 +122,22 @@ extern "C" {
 
 int sphray_intersect(const sphray_scene* scene, const sphray_ray* rays, size_t count,
                      sphray_hit* hits, const sphray_query_args* args) {
-  constexpr const char* kFunction = "sphray_intersect";
-  QueryOptions options;
-  const int status = check_batch(scene, rays, hits, count, args, Inputs::rays, kFunction, options);
-  if (status != SPHRAY_OK || count == 0) return status;
-  return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
-    intersect_range(*scene->scene, rays, options.masks, hits, begin, end);
-  });
+  return closest_hits<float>(scene, rays, count, hits, args, "sphray_intersect");
+}
+
+int sphray_intersect_d(const sphray_scene* scene, const sphray_ray_d* rays, size_t count,
+                       sphray_hit_d* hits, const sphray_query_args* args) {
+  return closest_hits<double>(scene, rays, count, hits, args, "sphray_intersect_d");
 }
 
 int sphray_occluded(const sphray_scene* scene, const sphray_ray* rays, size_t count,
                     unsigned char* occluded, const sphray_query_args* args) {
-  constexpr const char* kFunction = "sphray_occluded";
-  QueryOptions options;
-  const int status =
-      check_batch(scene, rays, occluded, count, args, Inputs::rays, kFunction, options);
-  if (status != SPHRAY_OK || count == 0) return status;
-  return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
-    occluded_range(*scene->scene, rays, options.masks, occluded, begin, end);
-  });
+  return occlusions<float>(scene, rays, count, occluded, args, "sphray_occluded");
+}
+
+int sphray_occluded_d(const sphray_scene* scene, const sphray_ray_d* rays, size_t count,
+                      unsigned char* occluded, const sphray_query_args* args) {
+  return occlusions<double>(scene, rays, count, occluded, args, "sphray_occluded_d");
 }
 
 int sphray_intersect_arrays(const sphray_scene* scene, const sphray_ray_arrays* rays, size_t count,
@@ -112,44 +154,29 @@ int sphray_intersect_arrays(const sphray_scene* scene, const sphray_ray_arrays* 
   return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
     const sphray::RayArrays in = ray_range(*rays, options.masks, begin, end);
     const sphray::HitArrays out{t + begin, id + begin, end - begin};
-    scene->scene->answer([&](const auto& spheres) { sphray::intersect(spheres, in, out); });
+    scene->scene->in<float>()->answer(
+        [&](const auto& spheres) { sphray::intersect(spheres, in, out); });
   });
 }
 
 int sphray_surface(const sphray_scene* scene, const sphray_ray* rays, const sphray_hit* hits,
                    size_t count, sphray_hit_surface* surfaces) {
-  constexpr const char* kFunction = "sphray_surface";
-  if (count == 0) return check_scene(scene, kFunction);  // empty work
-  if (int status = check_query(scene, rays, surfaces, count, kFunction); status != SPHRAY_OK)
-    return status;
-  if (int status = check_pointer(hits, kFunction, "hits is NULL"); status != SPHRAY_OK)
-    return status;
-  return guarded(kFunction, [&] {
-    const sphray::SphereView view = scene->scene->spheres.view();
-    for (std::size_t i = 0; i < count; ++i) {
-      const sphray::Hit hit{hits[i].t, hits[i].id};
-      surfaces[i] = to_c(sphray::surface(view, to_ray(rays[i]), hit));
-    }
-    return SPHRAY_OK;
-  });
+  return surfaces_at<float>(scene, rays, hits, count, surfaces, "sphray_surface");
+}
+
+int sphray_surface_d(const sphray_scene* scene, const sphray_ray_d* rays, const sphray_hit_d* hits,
+                     size_t count, sphray_hit_surface_d* surfaces) {
+  return surfaces_at<double>(scene, rays, hits, count, surfaces, "sphray_surface_d");
 }
 
 int sphray_spawn(const sphray_hit_surface* surfaces, const float* dirs, size_t count,
                  sphray_ray* rays) {
-  constexpr const char* kFunction = "sphray_spawn";
-  if (count == 0) return SPHRAY_OK;  // empty work: nothing read, nothing written
-  int status = check_pointer(surfaces, kFunction, "surfaces is NULL");
-  if (status == SPHRAY_OK) status = check_pointer(dirs, kFunction, "dirs is NULL");
-  if (status == SPHRAY_OK) status = check_pointer(rays, kFunction, "rays is NULL");
-  if (status == SPHRAY_OK) status = check_count(count, kFunction);
-  if (status != SPHRAY_OK) return status;
-  return guarded(kFunction, [&] {
-    for (std::size_t i = 0; i < count; ++i) {
-      const sphray::Vec3 dir{dirs[3 * i], dirs[3 * i + 1], dirs[3 * i + 2]};
-      rays[i] = to_c(sphray::spawn(from_c(surfaces[i]), dir));
-    }
-    return SPHRAY_OK;
-  });
+  return spawned_rays<float>(surfaces, dirs, count, rays, "sphray_spawn");
+}
+
+int sphray_spawn_d(const sphray_hit_surface_d* surfaces, const double* dirs, size_t count,
+                   sphray_ray_d* rays) {
+  return spawned_rays<double>(surfaces, dirs, count, rays, "sphray_spawn_d");
 }
 
 }  // extern "C"

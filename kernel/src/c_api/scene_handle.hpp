@@ -8,22 +8,49 @@
 
 #include <cstdint>
 #include <optional>
+#include <utility>
+#include <variant>
 
 #include "sphray/sphray.h"
 #include "sphray/sphray.hpp"
 
 namespace sphray::c_api {
 
-/// A scene's queries: brute force over the spheres' view, or the tree built from it. The
-/// spheres are kept either way: surface() reads them.
-struct Scene {
-  SphereSoA spheres;
-  std::optional<SphereBVH> bvh;
+/// A scene's queries in precision S: brute force over the spheres' view, or the tree built from
+/// it. The spheres are kept either way: surface() reads them.
+template <Scalar S>
+struct BasicScene {
+  BasicSphereSoA<S> spheres;
+  std::optional<BasicSphereBVH<S>> bvh;
 
   /// query(tree) when the scene has one, else query(view): the one place a C call chooses.
   template <class Query>
   decltype(auto) answer(Query&& query) const {
     return bvh ? query(*bvh) : query(spheres.view());
+  }
+};
+
+/// A scene in the precision it was created in (sphray_scene_create or _create_d), for good.
+struct Scene {
+  std::variant<BasicScene<float>, BasicScene<double>> held;
+
+  /// The scene in precision S, or null when it holds the other one.
+  template <Scalar S>
+  BasicScene<S>* in() {
+    return std::get_if<BasicScene<S>>(&held);
+  }
+  template <Scalar S>
+  const BasicScene<S>* in() const {
+    return std::get_if<BasicScene<S>>(&held);
+  }
+  /// use(scene) with the scene in its precision.
+  template <class Use>
+  decltype(auto) visit(Use&& use) {
+    return std::visit(std::forward<Use>(use), held);
+  }
+  template <class Use>
+  decltype(auto) visit(Use&& use) const {
+    return std::visit(std::forward<Use>(use), held);
   }
 };
 

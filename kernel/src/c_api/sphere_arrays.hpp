@@ -1,5 +1,5 @@
-// The sphere arrays a C caller passes (four pointers, a count and a stride), checked and
-// copied into a SphereSoA.
+// The sphere arrays a C caller passes (four pointers, a count and a stride), in float or in
+// double, checked and copied into a SphereSoA or SphereSoAd.
 #pragma once
 
 #include <cstddef>
@@ -8,27 +8,31 @@
 
 namespace sphray::c_api {
 
+template <Scalar S>
 struct SphereArrays {
-  const float* cx;
-  const float* cy;
-  const float* cz;
-  const float* r;
+  const S* cx;
+  const S* cy;
+  const S* cz;
+  const S* r;
   std::size_t count;
-  std::size_t stride_bytes;  // 0: packed floats
+  std::size_t stride_bytes;  // 0: packed values
 };
 
 /// SPHRAY_OK, or the status of the first problem (NULL pointer, count 0 or over 2^32 - 1,
-/// stride not 0 and not a positive multiple of 4, a pointer not aligned for float), with the
-/// message set.
-int check(const SphereArrays& arrays, const char* function) noexcept;
+/// stride not 0 and not a positive multiple of sizeof(S), a pointer not aligned for S), with
+/// the message set.
+template <Scalar S>
+int check(const SphereArrays<S>& arrays, const char* function) noexcept;
 
 /// The spheres, copied. Call after check().
-SphereSoA copy(const SphereArrays& arrays);
+template <Scalar S>
+BasicSphereSoA<S> copy(const SphereArrays<S>& arrays);
 
 /// The spheres written over those of spheres (the same count, checked by the caller), in
 /// place: spheres keeps its arrays, so a query that reads them meanwhile (a documented race,
 /// sphray.h) sees each value old or new, never freed memory. Allocates nothing and cannot
 /// fail. Masks are kept.
-void overwrite(const SphereArrays& arrays, SphereSoA& spheres);
+template <Scalar S>
+void overwrite(const SphereArrays<S>& arrays, BasicSphereSoA<S>& spheres);
 
 }  // namespace sphray::c_api
