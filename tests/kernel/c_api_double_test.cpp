@@ -132,8 +132,53 @@ void expect_agreement(const CScene& scene, const SphereViewd& v, const std::vect
   EXPECT_LT(found, n) << what;
 }
 
+// The point queries on scene against the scalar reference over v: the nearest sphere within
+// max_distance, occupancy, and the ids a ball overlaps.
+void expect_point_agreement(const CScene& scene, const SphereViewd& v,
+                            const std::vector<Vec3d>& points, double max_distance,
+                            const std::string& what) {
+  const std::size_t n = points.size();
+  std::vector<double> coordinates;
+  for (const Vec3d& p : points)
+    coordinates.insert(coordinates.end(), {p.x, p.y, p.z});
+  sphray_query_args args = SPHRAY_QUERY_ARGS_INIT;
+  args.threads = 2;
+  std::vector<sphray_nearest_sphere_d> nearest(n);
+  std::vector<unsigned char> inside(n);
+  ASSERT_EQ(
+      sphray_nearest_d(scene.get(), coordinates.data(), n, max_distance, nearest.data(), &args),
+      SPHRAY_OK);
+  ASSERT_EQ(sphray_inside_d(scene.get(), coordinates.data(), n, inside.data(), &args), SPHRAY_OK);
+  std::size_t found = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Nearestd want = scalar::nearest(v, points[i], max_distance);
+    found += want.found() ? 1 : 0;
+    ASSERT_TRUE(nearest[i].id == want.id && same(nearest[i].distance, want.distance) &&
+                same(nearest[i].px, want.point.x) && same(nearest[i].py, want.point.y) &&
+                same(nearest[i].pz, want.point.z))
+        << what << ", point " << i;
+    ASSERT_EQ(inside[i] != 0, scalar::nearest(v, points[i]).distance < 0) << what << ", " << i;
+    const double radius = 0.5 * static_cast<double>(i % 5);
+    std::vector<std::uint32_t> ids(v.count + 1), want_ids(v.count + 1);
+    std::size_t total = 0;
+    ASSERT_EQ(sphray_overlapping_d(scene.get(), &coordinates[3 * i], radius, ids.size(), ids.data(),
+                                   &total),
+              SPHRAY_OK);
+    const std::size_t want_total = scalar::overlapping(v, points[i], radius, want_ids);
+    ASSERT_EQ(total, want_total) << what << ", point " << i;
+    ASSERT_TRUE(std::equal(ids.begin(), ids.begin() + total, want_ids.begin())) << what;
+  }
+  EXPECT_GT(found, 0u) << what;
+}
+
+// A maximum distance that prunes in some scenes and not in others.
+double max_distance_for(std::size_t count, double scale) {
+  return count % 2 == 0 ? INFINITY : 3.0 * scale;
+}
+
 // Brute force and trees (built flat, walked, for a named instruction set), at the origin and
-// 1e5 out, with and without masks: the answers of the C++ double scalar reference, bit for bit.
+// 1e5 out, with and without masks: the answers of the C++ double scalar reference, bit for bit,
+// for the rays' queries and the points'.
 TEST(DoubleCApiAgreement, EveryQueryGivesTheScalarReferencesBits) {
   std::mt19937 rng(3720);
   const int isa = std::string(sphray_active_isa()) == "scalar"   ? SPHRAY_ISA_SCALAR
@@ -173,6 +218,11 @@ TEST(DoubleCApiAgreement, EveryQueryGivesTheScalarReferencesBits) {
             continue;
           }
           expect_agreement(scene, v, rays, {}, what);
+          std::vector<Vec3d> points(200);
+          for (std::size_t i = 0; i < points.size(); ++i)
+            points[i] = i % 4 == 0 ? Vec3d{v.cx[i % count], v.cy[i % count], v.cz[i % count]}
+                                   : at + scale * in_box(rng, 12.0);
+          expect_point_agreement(scene, v, points, max_distance_for(count, scale), what);
           DoubleSpheres masked = spheres;
           ASSERT_EQ(
               sphray_scene_set_masks(scene.get(), masked.masks.data() + DoubleSpheres::kOffset, 0),
@@ -264,6 +314,8 @@ TEST(CApiPrecision, ScenesRefuseTheOtherPrecisionsCalls) {
   const float point[3] = {0, 0, 0};
   const sphray_ray_arrays arrays{point, point, point, point, point, point, nullptr, nullptr};
   sphray_nearest_sphere nearest;
+  const double dpoint[3] = {0, 0, 0};
+  sphray_nearest_sphere_d dnearest;
   for (const std::size_t count : {1u, 0u}) {
     const auto refused = [&](int status, const char* call) {
       EXPECT_EQ(status, SPHRAY_ERROR_PRECISION) << call << ", count " << count;
@@ -290,7 +342,10 @@ TEST(CApiPrecision, ScenesRefuseTheOtherPrecisionsCalls) {
     refused(sphray_intersect_nearest_d(f, &dray, count, 1, &dhit, nullptr, &n, nullptr),
             "sphray_intersect_nearest_d");
     refused(sphray_count_hits_d(f, &dray, count, &n, nullptr), "sphray_count_hits_d");
+    refused(sphray_nearest_d(f, dpoint, count, INFINITY, &dnearest, nullptr), "sphray_nearest_d");
+    refused(sphray_inside_d(f, dpoint, count, &flag, nullptr), "sphray_inside_d");
   }
+  EXPECT_EQ(sphray_overlapping_d(f, dpoint, 1.0, 1, &id, &n), SPHRAY_ERROR_PRECISION);
   EXPECT_EQ(sphray_overlapping(d, point, 1.0f, 1, &id, &n), SPHRAY_ERROR_PRECISION);
   EXPECT_EQ(sphray_scene_refit(d, fx, fx, fx, fr, 1, 0), SPHRAY_ERROR_PRECISION);
   EXPECT_EQ(sphray_scene_refit_d(f, dx, dx, dx, dr, 1, 0), SPHRAY_ERROR_PRECISION);

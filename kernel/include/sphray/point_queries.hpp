@@ -33,13 +33,17 @@
 
 namespace sphray {
 
-struct Nearest {
+template <Scalar S>
+struct BasicNearest {
   std::uint32_t id = kNoHit;
-  float distance = std::numeric_limits<float>::infinity();  // signed: negative inside
-  Vec3 point{0.0f, 0.0f, 0.0f};  // the closest point of that sphere's surface
+  S distance = std::numeric_limits<S>::infinity();  // signed: negative inside
+  BasicVec3<S> point{0, 0, 0};                      // the closest point of that sphere's surface
   bool found() const { return id != kNoHit; }
 };
+using Nearest = BasicNearest<float>;
+using Nearestd = BasicNearest<double>;
 
+/// No maximum distance, in either precision (float's infinity is double's).
 inline constexpr float kAnyDistance = std::numeric_limits<float>::infinity();
 
 /// The sphere nearest point whose signed distance is at most max_distance.
@@ -82,10 +86,30 @@ SPHRAY_API void nearest(const SphereBVH& bvh, std::span<const Vec3> points, std:
 SPHRAY_API void inside(SphereView spheres, std::span<const Vec3> points, std::span<bool> out);
 SPHRAY_API void inside(const SphereBVH& bvh, std::span<const Vec3> points, std::span<bool> out);
 
+/// The point queries in double (docs/double.md): the same contract with double's distances and
+/// double's valid spheres, on views and on double trees, one point at a time and in batches.
+SPHRAY_API Nearestd nearest(SphereViewd spheres, Vec3d point, double max_distance = kAnyDistance);
+SPHRAY_API bool inside(SphereViewd spheres, Vec3d point);
+SPHRAY_API std::size_t overlapping(SphereViewd spheres, Vec3d centre, double radius,
+                                   std::span<std::uint32_t> out);
+SPHRAY_API Nearestd nearest(const SphereBVHd& bvh, Vec3d point, double max_distance = kAnyDistance);
+SPHRAY_API bool inside(const SphereBVHd& bvh, Vec3d point);
+SPHRAY_API std::size_t overlapping(const SphereBVHd& bvh, Vec3d centre, double radius,
+                                   std::span<std::uint32_t> out);
+SPHRAY_API void nearest(SphereViewd spheres, std::span<const Vec3d> points, std::span<Nearestd> out,
+                        double max_distance = kAnyDistance);
+SPHRAY_API void nearest(const SphereBVHd& bvh, std::span<const Vec3d> points,
+                        std::span<Nearestd> out, double max_distance = kAnyDistance);
+SPHRAY_API void inside(SphereViewd spheres, std::span<const Vec3d> points, std::span<bool> out);
+SPHRAY_API void inside(const SphereBVHd& bvh, std::span<const Vec3d> points, std::span<bool> out);
+
 namespace scalar {
 /// The reference implementations, one sphere at a time.
 SPHRAY_API Nearest nearest(SphereView spheres, Vec3 point, float max_distance = kAnyDistance);
 SPHRAY_API std::size_t overlapping(SphereView spheres, Vec3 centre, float radius,
+                                   std::span<std::uint32_t> out);
+SPHRAY_API Nearestd nearest(SphereViewd spheres, Vec3d point, double max_distance = kAnyDistance);
+SPHRAY_API std::size_t overlapping(SphereViewd spheres, Vec3d centre, double radius,
                                    std::span<std::uint32_t> out);
 }  // namespace scalar
 

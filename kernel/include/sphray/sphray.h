@@ -308,8 +308,7 @@ SPHRAY_API int sphray_overlapping(const sphray_scene* scene, const float* centre
  * with the C++ API's double kernel and its bits (no conversion anywhere); a float query on it,
  * or a _d query on a float scene, fails with SPHRAY_ERROR_PRECISION. sphray_scene_isa,
  * sphray_scene_set_masks, sphray_scene_size and sphray_scene_release take scenes of either
- * precision. The point queries (sphray_nearest, sphray_inside, sphray_overlapping) and
- * sphray_intersect_arrays are float only, for now. */
+ * precision. sphray_intersect_arrays is float only, for now. */
 #define SPHRAY_PRECISION_FLOAT 0
 #define SPHRAY_PRECISION_DOUBLE 1
 
@@ -367,6 +366,21 @@ SPHRAY_API int sphray_intersect_nearest_d(const sphray_scene* scene, const sphra
                                           const sphray_query_args* args);
 SPHRAY_API int sphray_count_hits_d(const sphray_scene* scene, const sphray_ray_d* rays,
                                    size_t count, size_t* counts, const sphray_query_args* args);
+
+/* The point queries on a double scene: sphray_nearest_sphere in double, and the points (3
+ * doubles each), distances and radii in double. */
+typedef struct sphray_nearest_sphere_d {
+  uint32_t id;
+  double distance;
+  double px, py, pz;
+} sphray_nearest_sphere_d;
+SPHRAY_API int sphray_nearest_d(const sphray_scene* scene, const double* points, size_t count,
+                                double max_distance, sphray_nearest_sphere_d* out,
+                                const sphray_query_args* args);
+SPHRAY_API int sphray_inside_d(const sphray_scene* scene, const double* points, size_t count,
+                               unsigned char* inside, const sphray_query_args* args);
+SPHRAY_API int sphray_overlapping_d(const sphray_scene* scene, const double* centre, double radius,
+                                    size_t capacity, uint32_t* ids, size_t* total);
 
 #ifdef __cplusplus
 } /* extern "C" */

@@ -1,7 +1,8 @@
-// The tree walked by distance from a point, written once over an xsimd architecture A: the
-// leaves whose boxes may hold a sphere within bound() of the point, nearest child first, each
-// child's lower bound from box_distance.hpp. The point queries (point/point_queries.hpp) are
-// its callers; the ray walk (walk.hpp) orders children along a ray instead.
+// The tree walked by distance from a point, written once over an xsimd architecture A and the
+// point's scalar S: the leaves whose boxes may hold a sphere within bound() of the point,
+// nearest child first, each child's lower bound from box_distance.hpp. The point queries
+// (point/point_queries.hpp) are its callers; the ray walk (walk.hpp) orders children along a
+// ray instead.
 #pragma once
 
 #include <cstddef>
@@ -16,18 +17,20 @@
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
-template <class A>
+template <class A, class S = float>
 struct DistanceWalk {
-  using Floats = xsimd::batch<float, A>;
-  using Box = BoxTest<A>;
-  static constexpr std::size_t kWidth = Floats::size;
+  using Box = BoxTest<A, S>;
+  using Floats = typename Box::Floats;
+  using Distance = BoxDistance<A, S>;
+  // Children per node and slots per leaf: a float batch's lanes, whatever S (box_test.hpp).
+  static constexpr std::size_t kWidth = Box::kWidth;
 
   // Visits the leaves whose children's lower bounds are at most bound(), nearest first, the
   // point given as one broadcast batch per coordinate; leaf(first slot) returns whether to
   // stop. bound() may shrink as leaves are visited (the nearest sphere's search), and entries
   // pushed earlier are then skipped when popped.
   template <class Bound, class Leaf>
-  static void visit(const BvhData& bvh, const Floats& x, const Floats& y, const Floats& z,
+  static void visit(const BasicBvhData<S>& bvh, const Floats& x, const Floats& y, const Floats& z,
                     Bound&& bound, Leaf&& leaf) {
     if (bvh.node_count == 0) return;
     if (bvh.count <= kWidth) {  // one leaf at slot 0, as the ray walk reads it
@@ -42,10 +45,10 @@ struct DistanceWalk {
         if (leaf(ref.first(kWidth))) return;
       } else {
         const typename Box::Node node(bvh.nodes, ref.node_index(), kWidth);
-        const Floats lower = BoxDistance<A>::lower_bound(node, x, y, z);
-        const unsigned bits = LaneReduce<A>::bits(lower <= Floats(bound()));
+        const typename Box::Near lower = Distance::lower_bound(node, x, y, z);
+        const unsigned bits = Distance::within(lower, bound());
         if (bits != 0) {
-          ref = Box::enter(node, bits, {lower}, stack, top);
+          ref = Box::enter(node, bits, lower, stack, top);
           continue;
         }
       }

@@ -1,5 +1,5 @@
-// sphray_intersect_all, sphray_intersect_nearest, sphray_count_hits (and their _d forms),
-// sphray_nearest, sphray_inside, sphray_overlapping:
+// sphray_intersect_all, sphray_intersect_nearest, sphray_count_hits, sphray_nearest,
+// sphray_inside, sphray_overlapping, and their _d forms:
 // the queries beyond the closest hit (docs/queries.md), converted to and from the C structs,
 // answered by the C++ API.
 #include <algorithm>
@@ -123,6 +123,60 @@ int count_hits(const sphray_scene* scene, const CRay<S>* rays, size_t count, siz
   });
 }
 
+// sphray_nearest and _nearest_d.
+template <Scalar S, class Out>
+int nearest_spheres(const sphray_scene* scene, const S* points, size_t count, S max_distance,
+                    Out* out, const sphray_query_args* args, const char* function) {
+  QueryOptions options;
+  const int status =
+      check_batch<S>(scene, points, out, count, args, Inputs::points, function, options);
+  if (status != SPHRAY_OK || count == 0) return status;
+  return run_batch(function, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
+    scene->scene->in<S>()->answer([&](const auto& spheres) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const BasicNearest<S> n = sphray::nearest(spheres, point_at(points, i), max_distance);
+        out[i] = {n.id, n.distance, n.point.x, n.point.y, n.point.z};
+      }
+    });
+  });
+}
+
+// sphray_inside and _inside_d.
+template <Scalar S>
+int inside_any(const sphray_scene* scene, const S* points, size_t count, unsigned char* inside,
+               const sphray_query_args* args, const char* function) {
+  QueryOptions options;
+  const int status =
+      check_batch<S>(scene, points, inside, count, args, Inputs::points, function, options);
+  if (status != SPHRAY_OK || count == 0) return status;
+  return run_batch(function, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
+    scene->scene->in<S>()->answer([&](const auto& spheres) {
+      for (std::size_t i = begin; i < end; ++i)
+        inside[i] = sphray::inside(spheres, point_at(points, i)) ? 1 : 0;
+    });
+  });
+}
+
+// sphray_overlapping and _overlapping_d.
+template <Scalar S>
+int overlapping_ball(const sphray_scene* scene, const S* centre, S radius, size_t capacity,
+                     uint32_t* ids, size_t* total, const char* function) {
+  int status = check_scene_in<S>(scene, function);
+  if (status == SPHRAY_OK) status = check_pointer(centre, function, "centre is NULL");
+  if (status == SPHRAY_OK) status = check_pointer(total, function, "total is NULL");
+  if (status == SPHRAY_OK && capacity > 0) status = check_pointer(ids, function, "ids is NULL");
+  if (status == SPHRAY_OK && capacity > kMaxElements<>)
+    status = fail(SPHRAY_ERROR_TOO_LARGE, function, "capacity exceeds the address space");
+  if (status != SPHRAY_OK) return status;
+  return guarded(function, [&] {
+    const BasicVec3<S> c{centre[0], centre[1], centre[2]};
+    const std::span<std::uint32_t> out(ids, capacity);
+    *total = scene->scene->in<S>()->answer(
+        [&](const auto& spheres) { return sphray::overlapping(spheres, c, radius, out); });
+    return SPHRAY_OK;
+  });
+}
+
 }  // namespace
 }  // namespace sphray::c_api
 
@@ -170,53 +224,33 @@ int sphray_count_hits_d(const sphray_scene* scene, const sphray_ray_d* rays, siz
 
 int sphray_nearest(const sphray_scene* scene, const float* points, size_t count, float max_distance,
                    sphray_nearest_sphere* out, const sphray_query_args* args) {
-  constexpr const char* kFunction = "sphray_nearest";
-  QueryOptions options;
-  const int status =
-      check_batch(scene, points, out, count, args, Inputs::points, kFunction, options);
-  if (status != SPHRAY_OK || count == 0) return status;
-  return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
-    scene->scene->in<float>()->answer([&](const auto& spheres) {
-      for (std::size_t i = begin; i < end; ++i) {
-        const sphray::Nearest n = sphray::nearest(spheres, point_at(points, i), max_distance);
-        out[i] = {n.id, n.distance, n.point.x, n.point.y, n.point.z};
-      }
-    });
-  });
+  return nearest_spheres(scene, points, count, max_distance, out, args, "sphray_nearest");
+}
+
+int sphray_nearest_d(const sphray_scene* scene, const double* points, size_t count,
+                     double max_distance, sphray_nearest_sphere_d* out,
+                     const sphray_query_args* args) {
+  return nearest_spheres(scene, points, count, max_distance, out, args, "sphray_nearest_d");
 }
 
 int sphray_inside(const sphray_scene* scene, const float* points, size_t count,
                   unsigned char* inside, const sphray_query_args* args) {
-  constexpr const char* kFunction = "sphray_inside";
-  QueryOptions options;
-  const int status =
-      check_batch(scene, points, inside, count, args, Inputs::points, kFunction, options);
-  if (status != SPHRAY_OK || count == 0) return status;
-  return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
-    scene->scene->in<float>()->answer([&](const auto& spheres) {
-      for (std::size_t i = begin; i < end; ++i)
-        inside[i] = sphray::inside(spheres, point_at(points, i)) ? 1 : 0;
-    });
-  });
+  return inside_any(scene, points, count, inside, args, "sphray_inside");
+}
+
+int sphray_inside_d(const sphray_scene* scene, const double* points, size_t count,
+                    unsigned char* inside, const sphray_query_args* args) {
+  return inside_any(scene, points, count, inside, args, "sphray_inside_d");
 }
 
 int sphray_overlapping(const sphray_scene* scene, const float* centre, float radius,
                        size_t capacity, uint32_t* ids, size_t* total) {
-  constexpr const char* kFunction = "sphray_overlapping";
-  int status = check_scene_in<float>(scene, kFunction);
-  if (status == SPHRAY_OK) status = check_pointer(centre, kFunction, "centre is NULL");
-  if (status == SPHRAY_OK) status = check_pointer(total, kFunction, "total is NULL");
-  if (status == SPHRAY_OK && capacity > 0) status = check_pointer(ids, kFunction, "ids is NULL");
-  if (status == SPHRAY_OK && capacity > kMaxElements<>)
-    status = fail(SPHRAY_ERROR_TOO_LARGE, kFunction, "capacity exceeds the address space");
-  if (status != SPHRAY_OK) return status;
-  return guarded(kFunction, [&] {
-    const sphray::Vec3 c{centre[0], centre[1], centre[2]};
-    const std::span<std::uint32_t> out(ids, capacity);
-    *total = scene->scene->in<float>()->answer(
-        [&](const auto& spheres) { return sphray::overlapping(spheres, c, radius, out); });
-    return SPHRAY_OK;
-  });
+  return overlapping_ball(scene, centre, radius, capacity, ids, total, "sphray_overlapping");
+}
+
+int sphray_overlapping_d(const sphray_scene* scene, const double* centre, double radius,
+                         size_t capacity, uint32_t* ids, size_t* total) {
+  return overlapping_ball(scene, centre, radius, capacity, ids, total, "sphray_overlapping_d");
 }
 
 }  // extern "C"

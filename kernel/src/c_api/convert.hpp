@@ -93,7 +93,8 @@ inline int to_c(Isa isa) {
   return static_cast<int>(isa) + 1;
 }
 
-inline Vec3 point_at(const float* points, std::size_t i) {
+template <Scalar S>
+BasicVec3<S> point_at(const S* points, std::size_t i) {
   return {points[3 * i], points[3 * i + 1], points[3 * i + 2]};
 }
 

@@ -141,17 +141,27 @@ struct EntryPoints {
     return AllHits<A, S>::intersect_nearest(bvh, ray, list);
   }
 
-  using Points = PointQueries<A>;
-  static Hit nearest(SphereView v, Vec3 point, float) { return Points::nearest(v, point); }
-  static std::size_t overlapping(SphereView v, Vec3 centre, float radius, IdCollector& out) {
-    return Points::overlapping(v, centre, radius, out);
+  // The point queries in float and double.
+  template <class S>
+  using Points = PointQueries<A, S>;
+  template <class S>
+  static BasicHit<S> nearest(BasicSphereView<S> v, BasicVec3<S> point, S) {
+    return Points<S>::nearest(v, point);
   }
-  static Hit bvh_nearest(const BvhData& bvh, Vec3 point, float max_distance, std::size_t* slot) {
-    return Points::nearest(bvh, point, max_distance, *slot);
+  template <class S>
+  static std::size_t overlapping(BasicSphereView<S> v, BasicVec3<S> centre, S radius,
+                                 IdCollector& out) {
+    return Points<S>::overlapping(v, centre, radius, out);
   }
-  static std::size_t bvh_overlapping(const BvhData& bvh, Vec3 centre, float radius,
+  template <class S>
+  static BasicHit<S> bvh_nearest(const BasicBvhData<S>& bvh, BasicVec3<S> point, S max_distance,
+                                 std::size_t* slot) {
+    return Points<S>::nearest(bvh, point, max_distance, *slot);
+  }
+  template <class S>
+  static std::size_t bvh_overlapping(const BasicBvhData<S>& bvh, BasicVec3<S> centre, S radius,
                                      IdCollector& out) {
-    return Points::overlapping(bvh, centre, radius, out);
+    return Points<S>::overlapping(bvh, centre, radius, out);
   }
   static void bvh_overlapping_pairs(const BvhData& bvh, std::size_t part, std::size_t parts,
                                     std::vector<IdPair>& out) {
@@ -227,10 +237,10 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::intersect_all,
           &E::template bvh_intersect_all<float>,
           &E::template bvh_intersect_nearest<float>,
-          &E::nearest,
-          &E::overlapping,
-          &E::bvh_nearest,
-          &E::bvh_overlapping,
+          &E::template nearest<float>,
+          &E::template overlapping<float>,
+          &E::template bvh_nearest<float>,
+          &E::template bvh_overlapping<float>,
           &E::bvh_overlapping_pairs,
           &SurfaceLanes<A>::surfaces,
           &SurfaceLanes<A>::offset_origins,
@@ -246,7 +256,11 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::bvh_intersect_stream_d,
           &E::bvh_occluded_stream_d,
           &E::template bvh_intersect_all<double>,
-          &E::template bvh_intersect_nearest<double>};
+          &E::template bvh_intersect_nearest<double>,
+          &E::template nearest<double>,
+          &E::template overlapping<double>,
+          &E::template bvh_nearest<double>,
+          &E::template bvh_overlapping<double>};
 }
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -98,6 +98,12 @@ struct EntryTable {
                                      std::size_t capacity);
   std::size_t (*bvh_intersect_nearest_d)(const BvhDatad& bvh, const Rayd& ray, Hitd* hits,
                                          bool* exits, std::size_t capacity);
+  /// The point queries in double, as their float forms above.
+  Hitd (*nearest_d)(SphereViewd spheres, Vec3d point, double max_distance);
+  std::size_t (*overlapping_d)(SphereViewd spheres, Vec3d centre, double radius, IdCollector& out);
+  Hitd (*bvh_nearest_d)(const BvhDatad& bvh, Vec3d point, double max_distance, std::size_t* slot);
+  std::size_t (*bvh_overlapping_d)(const BvhDatad& bvh, Vec3d centre, double radius,
+                                   IdCollector& out);
 };
 
 /// Of an entry point's float and double forms (intersect and intersect_d, ...), the one for S.

@@ -1,8 +1,8 @@
 // A point against the spheres in the lanes of one SIMD register, written once over an xsimd
-// architecture A: the signed distance from the point to each sphere's surface, |p - c| - r,
-// negative inside. The same operations in the same order on every instruction set and in the
-// scalar reference (point_reference.cpp), without fused multiply-adds: every kernel returns
-// the same bits.
+// architecture A and the scalar S: the signed distance from the point to each sphere's
+// surface, |p - c| - r, negative inside. The same operations in the same order on every
+// instruction set and in the scalar reference (point_reference.cpp), without fused
+// multiply-adds: every kernel returns the same bits.
 #pragma once
 
 #include <cstddef>
@@ -16,25 +16,25 @@
 
 namespace sphray::detail::SPHRAY_ISA_NAMESPACE {
 
-template <class A>
+template <class A, class S = float>
 struct PointLanes {
-  using Floats = xsimd::batch<float, A>;
-  using Mask = xsimd::batch_bool<float, A>;
-  using Spheres = typename SphereLanes<A>::Spheres;
+  using Floats = xsimd::batch<S, A>;
+  using Mask = xsimd::batch_bool<S, A>;
+  using Spheres = typename SphereLanes<A, S>::Spheres;
   static constexpr std::size_t kWidth = Floats::size;
 
   struct Point {
     Floats x, y, z;
   };
 
-  static Point setup(Vec3 p) { return {Floats(p.x), Floats(p.y), Floats(p.z)}; }
+  static Point setup(BasicVec3<S> p) { return {Floats(p.x), Floats(p.y), Floats(p.z)}; }
 
   // Per lane: whether the sphere takes part at all (the contract's valid spheres: a finite
-  // centre, kMinRadius <= r < kRadiusLimit, which also refuses a NaN radius; x - x is 0 exactly
-  // for finite x, NaN otherwise). Padding lanes have radius 0.
+  // centre, RadiusRange<S>::kMin <= r < kLimit, which also refuses a NaN radius; x - x is 0
+  // exactly for finite x, NaN otherwise). Padding lanes have radius 0.
   static Mask valid(const Spheres& sp) {
-    const Floats zero(0.0f);
-    return (sp.r >= Floats(kMinRadius)) & (sp.r < Floats(kRadiusLimit)) &
+    const Floats zero(S(0));
+    return (sp.r >= Floats(RadiusRange<S>::kMin)) & (sp.r < Floats(RadiusRange<S>::kLimit)) &
            (((sp.cx - sp.cx) + (sp.cy - sp.cy)) + (sp.cz - sp.cz) == zero);
   }
 

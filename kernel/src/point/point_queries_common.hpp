@@ -17,13 +17,22 @@ struct IdCollector;
 
 /// The Nearest for a kernel's answer best, whose sphere is at index slot of spheres: a miss
 /// unless best.t <= max_distance, else with the closest surface point.
-Nearest nearest_result(SphereView spheres, std::size_t slot, Vec3 point, float max_distance,
-                       Hit best);
+template <Scalar S>
+BasicNearest<S> nearest_result(BasicSphereView<S> spheres, std::size_t slot, BasicVec3<S> point,
+                               S max_distance, BasicHit<S> best);
 
-Hit scalar_nearest(SphereView v, Vec3 point, float max_distance);
-std::size_t scalar_overlapping(SphereView v, Vec3 centre, float radius, IdCollector& out);
-Hit scalar_bvh_nearest(const BvhData& bvh, Vec3 point, float max_distance, std::size_t* slot);
-std::size_t scalar_bvh_overlapping(const BvhData& bvh, Vec3 centre, float radius, IdCollector& out);
+/// The scalar kernel's point entries, in float and double (point_reference.cpp).
+template <Scalar S>
+BasicHit<S> scalar_nearest(BasicSphereView<S> v, BasicVec3<S> point, S max_distance);
+template <Scalar S>
+std::size_t scalar_overlapping(BasicSphereView<S> v, BasicVec3<S> centre, S radius,
+                               IdCollector& out);
+template <Scalar S>
+BasicHit<S> scalar_bvh_nearest(const BasicBvhData<S>& bvh, BasicVec3<S> point, S max_distance,
+                               std::size_t* slot);
+template <Scalar S>
+std::size_t scalar_bvh_overlapping(const BasicBvhData<S>& bvh, BasicVec3<S> centre, S radius,
+                                   IdCollector& out);
 void scalar_bvh_overlapping_pairs(const BvhData& bvh, std::size_t part, std::size_t parts,
                                   std::vector<IdPair>& out);
 

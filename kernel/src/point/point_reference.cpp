@@ -1,7 +1,9 @@
-// The point queries' scalar reference, one sphere at a time, and the scalar kernel's entries
-// for them. The signed distance is point_lanes.hpp's, operation for operation.
+// The point queries' scalar reference, one sphere at a time, in float and double, and the
+// scalar kernel's entries for them. The signed distance is point_lanes.hpp's, operation for
+// operation.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <span>
 
 #include "brute/validity.hpp"
@@ -16,56 +18,78 @@ namespace {
 
 using detail::valid_sphere;
 
-bool finite(Vec3 p) {
+template <Scalar S>
+bool finite(BasicVec3<S> p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
 }
 
-float distance(Vec3 p, Vec3 c) {
-  const Vec3 g = c - p;
+template <Scalar S>
+S distance(BasicVec3<S> p, BasicVec3<S> c) {
+  const BasicVec3<S> g = c - p;
   return std::sqrt(g.x * g.x + (g.y * g.y + g.z * g.z));
 }
 
-float signed_distance(Vec3 p, Vec3 c, float r) {
+template <Scalar S>
+S signed_distance(BasicVec3<S> p, BasicVec3<S> c, S r) {
   return distance(p, c) - r;
 }
 
 // Visits slot i of n with its id: a view's own (ids = nullptr) or a tree's leaf slots.
 // Invalid spheres are passed over but still counted in the slot index the visitor keeps.
-template <class Visit>
-void each_sphere(SphereView v, const std::uint32_t* ids, Visit&& visit) {
+template <Scalar S, class Visit>
+void each_sphere(BasicSphereView<S> v, const std::uint32_t* ids, Visit&& visit) {
   const std::size_t n = ids != nullptr ? v.count : std::min<std::size_t>(v.count, kNoHit);
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 c{v.cx[i], v.cy[i], v.cz[i]};
+    const BasicVec3<S> c{v.cx[i], v.cy[i], v.cz[i]};
     const bool valid = valid_sphere(c, v.radius[i]);
     if (visit(valid, c, v.radius[i], ids != nullptr ? ids[i] : static_cast<std::uint32_t>(i)))
       return;
   }
 }
 
-Hit nearest_in(SphereView v, const std::uint32_t* ids, Vec3 point, std::size_t* slot) {
-  Hit best{INFINITY, kNoHit};
+template <Scalar S>
+BasicHit<S> nearest_in(BasicSphereView<S> v, const std::uint32_t* ids, BasicVec3<S> point,
+                       std::size_t* slot) {
+  constexpr S kInf = std::numeric_limits<S>::infinity();
+  BasicHit<S> best{kInf, kNoHit};
   if (!finite(point)) return best;
   std::size_t i = 0;
-  each_sphere(v, ids, [&](bool valid, Vec3 c, float r, std::uint32_t id) {
+  each_sphere(v, ids, [&](bool valid, BasicVec3<S> c, S r, std::uint32_t id) {
     const std::size_t at = i++;
     if (!valid) return false;
-    const float d = signed_distance(point, c, r);
+    const S d = signed_distance(point, c, r);
     if (d < best.t || (d == best.t && best.id != kNoHit && id < best.id)) {
       best = {d, id};
       if (slot != nullptr) *slot = at;
     }
     return false;
   });
-  return best.t < INFINITY ? best : Hit{INFINITY, kNoHit};
+  return best.t < kInf ? best : BasicHit<S>{kInf, kNoHit};
 }
 
-std::size_t overlapping_in(SphereView v, const std::uint32_t* ids, Vec3 centre, float radius,
-                           detail::IdCollector& out) {
-  if (!finite(centre) || !(radius >= 0.0f)) return 0;
-  each_sphere(v, ids, [&](bool valid, Vec3 c, float r, std::uint32_t id) {
+template <Scalar S>
+std::size_t overlapping_in(BasicSphereView<S> v, const std::uint32_t* ids, BasicVec3<S> centre,
+                           S radius, detail::IdCollector& out) {
+  if (!finite(centre) || !(radius >= S(0))) return 0;
+  each_sphere(v, ids, [&](bool valid, BasicVec3<S> c, S r, std::uint32_t id) {
     return valid && signed_distance(centre, c, r) < radius && out.add(id);
   });
   return out.total;
+}
+
+template <Scalar S>
+BasicNearest<S> reference_nearest(BasicSphereView<S> spheres, BasicVec3<S> point, S max_distance) {
+  const BasicHit<S> best = nearest_in(spheres, nullptr, point, nullptr);
+  return detail::nearest_result(spheres, best.id, point, max_distance, best);
+}
+
+template <Scalar S>
+std::size_t reference_overlapping(BasicSphereView<S> spheres, BasicVec3<S> centre, S radius,
+                                  std::span<std::uint32_t> out) {
+  detail::IdCollector ids{out.data(), out.size(), false};
+  overlapping_in(spheres, nullptr, centre, radius, ids);
+  ids.finish();
+  return ids.total;
 }
 
 }  // namespace
@@ -73,37 +97,55 @@ std::size_t overlapping_in(SphereView v, const std::uint32_t* ids, Vec3 centre, 
 namespace scalar {
 
 Nearest nearest(SphereView spheres, Vec3 point, float max_distance) {
-  const Hit best = nearest_in(spheres, nullptr, point, nullptr);
-  return detail::nearest_result(spheres, best.id, point, max_distance, best);
+  return reference_nearest(spheres, point, max_distance);
+}
+Nearestd nearest(SphereViewd spheres, Vec3d point, double max_distance) {
+  return reference_nearest(spheres, point, max_distance);
 }
 
 std::size_t overlapping(SphereView spheres, Vec3 centre, float radius,
                         std::span<std::uint32_t> out) {
-  detail::IdCollector ids{out.data(), out.size(), false};
-  overlapping_in(spheres, nullptr, centre, radius, ids);
-  ids.finish();
-  return ids.total;
+  return reference_overlapping(spheres, centre, radius, out);
+}
+std::size_t overlapping(SphereViewd spheres, Vec3d centre, double radius,
+                        std::span<std::uint32_t> out) {
+  return reference_overlapping(spheres, centre, radius, out);
 }
 
 }  // namespace scalar
 
 namespace detail {
 
-Hit scalar_nearest(SphereView v, Vec3 point, float) {
+template <Scalar S>
+BasicHit<S> scalar_nearest(BasicSphereView<S> v, BasicVec3<S> point, S) {
   return nearest_in(v, nullptr, point, nullptr);
 }
-std::size_t scalar_overlapping(SphereView v, Vec3 centre, float radius, IdCollector& out) {
+template <Scalar S>
+std::size_t scalar_overlapping(BasicSphereView<S> v, BasicVec3<S> centre, S radius,
+                               IdCollector& out) {
   return overlapping_in(v, nullptr, centre, radius, out);
 }
 // The tree's slots in leaf order, each with its id: the answers do not depend on the order
 // (ties go by id), and padding slots (radius 0) are skipped as invalid.
-Hit scalar_bvh_nearest(const BvhData& bvh, Vec3 point, float, std::size_t* slot) {
+template <Scalar S>
+BasicHit<S> scalar_bvh_nearest(const BasicBvhData<S>& bvh, BasicVec3<S> point, S,
+                               std::size_t* slot) {
   return nearest_in(bvh.spheres, bvh.ids, point, slot);
 }
-std::size_t scalar_bvh_overlapping(const BvhData& bvh, Vec3 centre, float radius,
+template <Scalar S>
+std::size_t scalar_bvh_overlapping(const BasicBvhData<S>& bvh, BasicVec3<S> centre, S radius,
                                    IdCollector& out) {
   return overlapping_in(bvh.spheres, bvh.ids, centre, radius, out);
 }
+
+template Hit scalar_nearest(SphereView, Vec3, float);
+template Hitd scalar_nearest(SphereViewd, Vec3d, double);
+template std::size_t scalar_overlapping(SphereView, Vec3, float, IdCollector&);
+template std::size_t scalar_overlapping(SphereViewd, Vec3d, double, IdCollector&);
+template Hit scalar_bvh_nearest(const BvhData&, Vec3, float, std::size_t*);
+template Hitd scalar_bvh_nearest(const BvhDatad&, Vec3d, double, std::size_t*);
+template std::size_t scalar_bvh_overlapping(const BvhData&, Vec3, float, IdCollector&);
+template std::size_t scalar_bvh_overlapping(const BvhDatad&, Vec3d, double, IdCollector&);
 
 // Every pair of valid slots, the share's slots against all later ones: the contract's
 // definition, one pair at a time, with the lower id's sphere as the ball.
