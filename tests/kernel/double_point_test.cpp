@@ -149,6 +149,76 @@ TEST(DoublePoints, MillimetreSpheresAHundredKilometresOut) {
   EXPECT_GT(worst_float, 1e-3);
 }
 
+// The pairs of reference: for each valid sphere i, the spheres j > i that scalar::overlapping
+// lists for the ball of sphere i (the contract's definition, in double).
+std::vector<IdPair> reference_pairs(const SphereViewd& v) {
+  std::vector<IdPair> pairs;
+  std::vector<std::uint32_t> ids(v.count);
+  for (std::uint32_t i = 0; i < v.count; ++i) {
+    if (!valid(v, i)) continue;
+    const std::size_t n = scalar::overlapping(v, {v.cx[i], v.cy[i], v.cz[i]}, v.radius[i], ids);
+    for (std::size_t k = 0; k < n; ++k)
+      if (ids[k] > i) pairs.push_back({i, ids[k]});
+  }
+  return pairs;
+}
+
+std::vector<IdPair> sorted(std::vector<IdPair> pairs) {
+  std::sort(pairs.begin(), pairs.end(), [](IdPair a, IdPair b) {
+    return a.first != b.first ? a.first < b.first : a.second < b.second;
+  });
+  return pairs;
+}
+
+// overlapping_pairs on double trees of every instruction set, whole and in three parts, against
+// the reference; and millimetre spheres 100 km out, 2 mm apart plus or minus a micrometre,
+// which double pairs exactly as they overlap or not (float would round their centres to its
+// 7.8 mm spacing there).
+TEST(DoublePoints, OverlappingPairsAreTheReferencesPairsEachOnce) {
+  std::mt19937 rng(3732);
+  std::size_t total = 0;
+  for (const std::size_t n : {0u, 5u, 17u, 300u, 2000u}) {
+    for (const Vec3d at : {Vec3d{0, 0, 0}, Vec3d{1e5, -2e5, 3e4}}) {
+      const double scale = 6.0 / std::cbrt(static_cast<double>(n) + 1.0);
+      DoubleSpheres scene = random_spheres(rng, n, at, 0.5 * scale);
+      for (std::size_t i = 3; i < n; i += 13)
+        scene.storage[3][DoubleSpheres::kOffset + i] = -1.0;  // never paired
+      const SphereViewd v = scene.view();
+      const std::vector<IdPair> want = sorted(reference_pairs(v));
+      total += want.size();
+      for (const EntryTable* k : test::runnable_kernels()) {
+        const SphereBVHd tree(v, k->isa);
+        std::vector<IdPair> whole, parts;
+        overlapping_pairs(tree, whole);
+        for (std::size_t part = 0; part < 3; ++part)
+          overlapping_pairs(tree, parts, part, 3);
+        ASSERT_EQ(whole.size(), want.size()) << test::name_of(k) << ", " << n << " spheres";
+        EXPECT_EQ(sorted(whole), want) << test::name_of(k) << ", " << n << " spheres";
+        EXPECT_EQ(sorted(parts), want) << test::name_of(k) << ", " << n << " spheres";
+      }
+    }
+  }
+  EXPECT_GT(total, 1000u);
+
+  // A row of 1 mm spheres along x, 100 km out: neighbours 2 mm - 1 um apart overlap, 2 mm + 1 um
+  // apart do not.
+  DoubleSpheres row;
+  std::vector<IdPair> touching;
+  double x = 1e5;
+  for (std::uint32_t i = 0; i < 400; ++i) {
+    row.add({x, -3e4, 7e4}, 1e-3);
+    const bool overlap = rng() % 2 == 0;
+    if (overlap && i + 1 < 400) touching.push_back({i, i + 1});
+    x += overlap ? 2e-3 - 1e-6 : 2e-3 + 1e-6;
+  }
+  for (const EntryTable* k : test::runnable_kernels()) {
+    const SphereBVHd tree(row.view(), k->isa);
+    std::vector<IdPair> pairs;
+    overlapping_pairs(tree, pairs);
+    EXPECT_EQ(sorted(pairs), touching) << test::name_of(k);
+  }
+}
+
 // The contract's invalid input: non-finite points, a NaN maximum, a negative or NaN radius
 // give the empty answer; invalid spheres (NaN or infinite centre, radius outside
 // [2^-511, 2^512)) are never found; a maximum distance prunes; the batch forms check sizes.

@@ -102,6 +102,8 @@ SPHRAY_API void nearest(const SphereBVHd& bvh, std::span<const Vec3d> points,
                         std::span<Nearestd> out, double max_distance = kAnyDistance);
 SPHRAY_API void inside(SphereViewd spheres, std::span<const Vec3d> points, std::span<bool> out);
 SPHRAY_API void inside(const SphereBVHd& bvh, std::span<const Vec3d> points, std::span<bool> out);
+SPHRAY_API void overlapping_pairs(const SphereBVHd& bvh, std::vector<IdPair>& out,
+                                  std::size_t part = 0, std::size_t parts = 1);
 
 namespace scalar {
 /// The reference implementations, one sphere at a time.

@@ -259,7 +259,7 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              &scalar_overlapping<float>,
                                              &scalar_bvh_nearest<float>,
                                              &scalar_bvh_overlapping<float>,
-                                             &scalar_bvh_overlapping_pairs,
+                                             &scalar_bvh_overlapping_pairs<float>,
                                              &scalar_surfaces,
                                              &scalar_offset_origins,
                                              1,
@@ -278,5 +278,6 @@ constinit const EntryTable kScalarEntries = {Isa::scalar,
                                              &scalar_nearest<double>,
                                              &scalar_overlapping<double>,
                                              &scalar_bvh_nearest<double>,
-                                             &scalar_bvh_overlapping<double>};
+                                             &scalar_bvh_overlapping<double>,
+                                             &scalar_bvh_overlapping_pairs<double>};
 }  // namespace sphray::detail

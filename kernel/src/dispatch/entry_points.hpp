@@ -163,9 +163,10 @@ struct EntryPoints {
                                      IdCollector& out) {
     return Points<S>::overlapping(bvh, centre, radius, out);
   }
-  static void bvh_overlapping_pairs(const BvhData& bvh, std::size_t part, std::size_t parts,
+  template <class S>
+  static void bvh_overlapping_pairs(const BasicBvhData<S>& bvh, std::size_t part, std::size_t parts,
                                     std::vector<IdPair>& out) {
-    OverlapPairs<A>::find(bvh, part, parts, out);
+    OverlapPairs<A, S>::find(bvh, part, parts, out);
   }
 
   // Double: the same plan as float's brute force, one ray at a time. The batches are a call of
@@ -241,7 +242,7 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::template overlapping<float>,
           &E::template bvh_nearest<float>,
           &E::template bvh_overlapping<float>,
-          &E::bvh_overlapping_pairs,
+          &E::template bvh_overlapping_pairs<float>,
           &SurfaceLanes<A>::surfaces,
           &SurfaceLanes<A>::offset_origins,
           E::BruteD::kWidth,
@@ -260,7 +261,8 @@ constexpr EntryTable make_entry_table(Isa isa) {
           &E::template nearest<double>,
           &E::template overlapping<double>,
           &E::template bvh_nearest<double>,
-          &E::template bvh_overlapping<double>};
+          &E::template bvh_overlapping<double>,
+          &E::template bvh_overlapping_pairs<double>};
 }
 
 }  // namespace sphray::detail::SPHRAY_ISA_NAMESPACE

@@ -104,6 +104,8 @@ struct EntryTable {
   Hitd (*bvh_nearest_d)(const BvhDatad& bvh, Vec3d point, double max_distance, std::size_t* slot);
   std::size_t (*bvh_overlapping_d)(const BvhDatad& bvh, Vec3d centre, double radius,
                                    IdCollector& out);
+  void (*bvh_overlapping_pairs_d)(const BvhDatad& bvh, std::size_t part, std::size_t parts,
+                                  std::vector<IdPair>& out);
 };
 
 /// Of an entry point's float and double forms (intersect and intersect_d, ...), the one for S.

@@ -91,6 +91,17 @@ std::size_t tree_overlapping(const BasicSphereBVH<S>& bvh, BasicVec3<S> centre, 
   });
 }
 
+template <Scalar S>
+void tree_overlapping_pairs(const BasicSphereBVH<S>& bvh, std::vector<IdPair>& out,
+                            std::size_t part, std::size_t parts) {
+  if (!(part < parts))
+    throw std::invalid_argument("sphray::overlapping_pairs: expected part < parts");
+  using A = detail::BvhAccess;
+  const auto& k = A::entries(bvh);
+  detail::in_precision<S>(k.bvh_overlapping_pairs, k.bvh_overlapping_pairs_d)(A::data(bvh), part,
+                                                                              parts, out);
+}
+
 // out[i] = query(points[i]) for every point.
 template <class Point, class Answer, class Query>
 void each_point(std::span<const Point> points, std::span<Answer> out, Query&& query) {
@@ -149,10 +160,11 @@ std::size_t overlapping(const SphereBVHd& bvh, Vec3d centre, double radius,
 
 void overlapping_pairs(const SphereBVH& bvh, std::vector<IdPair>& out, std::size_t part,
                        std::size_t parts) {
-  if (!(part < parts))
-    throw std::invalid_argument("sphray::overlapping_pairs: expected part < parts");
-  using A = detail::BvhAccess;
-  A::entries(bvh).bvh_overlapping_pairs(A::data(bvh), part, parts, out);
+  tree_overlapping_pairs(bvh, out, part, parts);
+}
+void overlapping_pairs(const SphereBVHd& bvh, std::vector<IdPair>& out, std::size_t part,
+                       std::size_t parts) {
+  tree_overlapping_pairs(bvh, out, part, parts);
 }
 
 void nearest(SphereView spheres, std::span<const Vec3> points, std::span<Nearest> out,

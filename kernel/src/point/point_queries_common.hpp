@@ -33,7 +33,8 @@ BasicHit<S> scalar_bvh_nearest(const BasicBvhData<S>& bvh, BasicVec3<S> point, S
 template <Scalar S>
 std::size_t scalar_bvh_overlapping(const BasicBvhData<S>& bvh, BasicVec3<S> centre, S radius,
                                    IdCollector& out);
-void scalar_bvh_overlapping_pairs(const BvhData& bvh, std::size_t part, std::size_t parts,
+template <Scalar S>
+void scalar_bvh_overlapping_pairs(const BasicBvhData<S>& bvh, std::size_t part, std::size_t parts,
                                   std::vector<IdPair>& out);
 
 }  // namespace sphray::detail

@@ -149,10 +149,11 @@ template std::size_t scalar_bvh_overlapping(const BvhDatad&, Vec3d, double, IdCo
 
 // Every pair of valid slots, the share's slots against all later ones: the contract's
 // definition, one pair at a time, with the lower id's sphere as the ball.
-void scalar_bvh_overlapping_pairs(const BvhData& bvh, std::size_t part, std::size_t parts,
+template <Scalar S>
+void scalar_bvh_overlapping_pairs(const BasicBvhData<S>& bvh, std::size_t part, std::size_t parts,
                                   std::vector<IdPair>& out) {
-  const SphereView v = bvh.spheres;
-  const auto centre = [&](std::size_t s) { return Vec3{v.cx[s], v.cy[s], v.cz[s]}; };
+  const BasicSphereView<S> v = bvh.spheres;
+  const auto centre = [&](std::size_t s) { return BasicVec3<S>{v.cx[s], v.cy[s], v.cz[s]}; };
   for (std::size_t s = v.count * part / parts; s < v.count * (part + 1) / parts; ++s) {
     if (!valid_sphere(centre(s), v.radius[s])) continue;
     for (std::size_t t = s + 1; t < v.count; ++t) {
@@ -164,6 +165,11 @@ void scalar_bvh_overlapping_pairs(const BvhData& bvh, std::size_t part, std::siz
     }
   }
 }
+
+template void scalar_bvh_overlapping_pairs(const BvhData&, std::size_t, std::size_t,
+                                           std::vector<IdPair>&);
+template void scalar_bvh_overlapping_pairs(const BvhDatad&, std::size_t, std::size_t,
+                                           std::vector<IdPair>&);
 
 }  // namespace detail
 }  // namespace sphray
