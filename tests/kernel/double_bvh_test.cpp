@@ -217,6 +217,49 @@ TEST(DoubleTree, TiesGoToTheLowerId) {
   }
 }
 
+// The every-hit batch forms in double answer each ray as its single query does, on a view and
+// on a tree; sizes that do not fit throw.
+TEST(DoubleTree, EveryHitBatchFormsAnswerEachRayAsItsSingleQuery) {
+  std::mt19937 rng(3717);
+  const DoubleSpheres scene = random_spheres(rng, 400, {5e4, 0, -5e4}, 0.4);
+  const SphereViewd v = scene.view();
+  const SphereBVHd tree(v);
+  std::vector<Rayd> rays(test::scaled(300));
+  for (Rayd& r : rays)
+    r = random_ray(rng, {5e4, 0, -5e4}, 0.4);
+  constexpr std::size_t kPerRay = 3;
+  std::vector<Hitd> out(rays.size() * kPerRay), one(kPerRay);
+  std::vector<std::size_t> counts(rays.size());
+  std::size_t crossings = 0;
+  for (const bool nearest_only : {false, true}) {
+    for (const bool through_tree : {false, true}) {
+      if (nearest_only)
+        through_tree ? intersect_nearest(tree, rays, out, kPerRay, counts)
+                     : intersect_nearest(v, rays, out, kPerRay, counts);
+      else
+        through_tree ? intersect_all(tree, rays, out, kPerRay, counts)
+                     : intersect_all(v, rays, out, kPerRay, counts);
+      std::vector<std::size_t> totals(rays.size());
+      through_tree ? count_hits(tree, rays, totals) : count_hits(v, rays, totals);
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        const std::size_t total =
+            through_tree ? intersect_all(tree, rays[i], one) : intersect_all(v, rays[i], one);
+        ASSERT_EQ(totals[i], total) << i;
+        ASSERT_EQ(counts[i], nearest_only ? std::min(total, kPerRay) : total) << i;
+        for (std::size_t k = 0; k < std::min(total, kPerRay); ++k)
+          ASSERT_TRUE(same_bits(out[i * kPerRay + k], one[k])) << i << ", slot " << k;
+        crossings += total;
+      }
+    }
+  }
+  EXPECT_GT(crossings, rays.size());
+  std::vector<std::size_t> short_counts(rays.size() - 1);
+  EXPECT_THROW(intersect_all(tree, rays, out, kPerRay, short_counts), std::length_error);
+  EXPECT_THROW(count_hits(v, rays, short_counts), std::length_error);
+  std::vector<Hitd> short_out(out.size() - 1);
+  EXPECT_THROW(intersect_nearest(v, rays, short_out, kPerRay, counts), std::length_error);
+}
+
 // Refit takes moved spheres and answers as a fresh brute force on them; a different count
 // throws, and a moved-from tree misses every ray.
 TEST(DoubleTree, RefitAndMove) {

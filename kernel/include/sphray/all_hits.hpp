@@ -87,6 +87,22 @@ SPHRAY_API std::size_t intersect_all(const SphereBVHd& bvh, const Rayd& ray, std
 SPHRAY_API std::size_t count_hits(const SphereBVHd& bvh, const Rayd& ray);
 SPHRAY_API std::size_t intersect_nearest(const SphereBVHd& bvh, const Rayd& ray,
                                          std::span<Hitd> out, std::span<bool> exits = {});
+/// Their batch forms in double, as float's above.
+SPHRAY_API void count_hits(SphereViewd spheres, std::span<const Rayd> rays,
+                           std::span<std::size_t> counts);
+SPHRAY_API void count_hits(const SphereBVHd& bvh, std::span<const Rayd> rays,
+                           std::span<std::size_t> counts);
+SPHRAY_API void intersect_all(SphereViewd spheres, std::span<const Rayd> rays, std::span<Hitd> out,
+                              std::size_t per_ray, std::span<std::size_t> counts);
+SPHRAY_API void intersect_all(const SphereBVHd& bvh, std::span<const Rayd> rays,
+                              std::span<Hitd> out, std::size_t per_ray,
+                              std::span<std::size_t> counts);
+SPHRAY_API void intersect_nearest(SphereViewd spheres, std::span<const Rayd> rays,
+                                  std::span<Hitd> out, std::size_t per_ray,
+                                  std::span<std::size_t> counts);
+SPHRAY_API void intersect_nearest(const SphereBVHd& bvh, std::span<const Rayd> rays,
+                                  std::span<Hitd> out, std::size_t per_ray,
+                                  std::span<std::size_t> counts);
 
 namespace scalar {
 /// The reference implementation, one sphere at a time.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <type_traits>
 
 #include "bvh/bvh_data.hpp"
 #include "dispatch/entry_table.hpp"
@@ -129,47 +130,107 @@ void check_batch(std::size_t rays, std::size_t counts, std::size_t out, std::siz
         "sphray::intersect_all: expected one count per ray and per_ray hits for each");
 }
 
+// The batch forms, one body for both precisions: counts[i] = all(rays[i], its per_ray slots),
+// all being one kernel's entry, looked up once per batch.
+template <class RayS, class HitS, class All>
+void each_ray(std::span<const RayS> rays, std::span<HitS> out, std::size_t per_ray,
+              std::span<std::size_t> counts, All&& all) {
+  check_batch(rays.size(), counts.size(), out.size(), per_ray);
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    counts[i] = all(rays[i], out.data() + i * per_ray);
+}
+
+template <Scalar S>
+void view_all(BasicSphereView<S> spheres, std::span<const BasicRay<S>> rays,
+              std::span<BasicHit<S>> out, std::size_t per_ray, std::span<std::size_t> counts) {
+  // The kernels the single-ray forms use: by the view's size in float, the process's in double.
+  const detail::EntryTable& e =
+      std::is_same_v<S, float> ? detail::entries_for_size(spheres.count) : detail::active_entries();
+  const auto all = detail::in_precision<S>(e.intersect_all, e.intersect_all_d);
+  each_ray(rays, out, per_ray, counts, [&](const BasicRay<S>& ray, BasicHit<S>* slots) {
+    return all(spheres, ray, slots, nullptr, per_ray);
+  });
+}
+
+template <Scalar S>
+void tree_all_batch(const BasicSphereBVH<S>& bvh, std::span<const BasicRay<S>> rays,
+                    std::span<BasicHit<S>> out, std::size_t per_ray,
+                    std::span<std::size_t> counts) {
+  using A = detail::BvhAccess;
+  const auto& data = A::data(bvh);
+  const detail::EntryTable& e = A::entries(bvh);
+  const auto all = detail::in_precision<S>(e.bvh_intersect_all, e.bvh_intersect_all_d);
+  each_ray(rays, out, per_ray, counts, [&](const BasicRay<S>& ray, BasicHit<S>* slots) {
+    return all(data, ray, slots, nullptr, per_ray);
+  });
+}
+
+template <Scalar S>
+void tree_nearest_batch(const BasicSphereBVH<S>& bvh, std::span<const BasicRay<S>> rays,
+                        std::span<BasicHit<S>> out, std::size_t per_ray,
+                        std::span<std::size_t> counts) {
+  each_ray(rays, out, per_ray, counts, [&](const BasicRay<S>& ray, BasicHit<S>* slots) {
+    return tree_nearest(bvh, ray, std::span<BasicHit<S>>(slots, per_ray), {});
+  });
+}
+
+// Brute force reads every sphere either way: the nearest are every crossing's first.
+template <Scalar S>
+void view_nearest_batch(BasicSphereView<S> spheres, std::span<const BasicRay<S>> rays,
+                        std::span<BasicHit<S>> out, std::size_t per_ray,
+                        std::span<std::size_t> counts) {
+  view_all(spheres, rays, out, per_ray, counts);
+  for (std::size_t& count : counts)
+    count = std::min(count, per_ray);
+}
+
 }  // namespace
 
 void count_hits(SphereView spheres, std::span<const Ray> rays, std::span<std::size_t> counts) {
-  intersect_all(spheres, rays, {}, 0, counts);
+  view_all<float>(spheres, rays, {}, 0, counts);
 }
-
+void count_hits(SphereViewd spheres, std::span<const Rayd> rays, std::span<std::size_t> counts) {
+  view_all<double>(spheres, rays, {}, 0, counts);
+}
 void count_hits(const SphereBVH& bvh, std::span<const Ray> rays, std::span<std::size_t> counts) {
-  intersect_all(bvh, rays, {}, 0, counts);
+  tree_all_batch<float>(bvh, rays, {}, 0, counts);
+}
+void count_hits(const SphereBVHd& bvh, std::span<const Rayd> rays, std::span<std::size_t> counts) {
+  tree_all_batch<double>(bvh, rays, {}, 0, counts);
 }
 
 void intersect_all(SphereView spheres, std::span<const Ray> rays, std::span<Hit> out,
                    std::size_t per_ray, std::span<std::size_t> counts) {
-  check_batch(rays.size(), counts.size(), out.size(), per_ray);
-  const detail::EntryTable& entries = detail::entries_for_size(spheres.count);
-  for (std::size_t i = 0; i < rays.size(); ++i)
-    counts[i] = entries.intersect_all(spheres, rays[i], out.data() + i * per_ray, nullptr, per_ray);
+  view_all(spheres, rays, out, per_ray, counts);
 }
-
+void intersect_all(SphereViewd spheres, std::span<const Rayd> rays, std::span<Hitd> out,
+                   std::size_t per_ray, std::span<std::size_t> counts) {
+  view_all(spheres, rays, out, per_ray, counts);
+}
 void intersect_all(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> out,
                    std::size_t per_ray, std::span<std::size_t> counts) {
-  check_batch(rays.size(), counts.size(), out.size(), per_ray);
-  using A = detail::BvhAccess;
-  const detail::BvhData& data = A::data(bvh);
-  const detail::EntryTable& entries = A::entries(bvh);
-  for (std::size_t i = 0; i < rays.size(); ++i)
-    counts[i] =
-        entries.bvh_intersect_all(data, rays[i], out.data() + i * per_ray, nullptr, per_ray);
+  tree_all_batch(bvh, rays, out, per_ray, counts);
 }
-
-void intersect_nearest(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> out,
-                       std::size_t per_ray, std::span<std::size_t> counts) {
-  check_batch(rays.size(), counts.size(), out.size(), per_ray);
-  for (std::size_t i = 0; i < rays.size(); ++i)
-    counts[i] = intersect_nearest(bvh, rays[i], out.subspan(i * per_ray, per_ray));
+void intersect_all(const SphereBVHd& bvh, std::span<const Rayd> rays, std::span<Hitd> out,
+                   std::size_t per_ray, std::span<std::size_t> counts) {
+  tree_all_batch(bvh, rays, out, per_ray, counts);
 }
 
 void intersect_nearest(SphereView spheres, std::span<const Ray> rays, std::span<Hit> out,
                        std::size_t per_ray, std::span<std::size_t> counts) {
-  intersect_all(spheres, rays, out, per_ray, counts);
-  for (std::size_t& count : counts)
-    count = std::min(count, per_ray);
+  view_nearest_batch(spheres, rays, out, per_ray, counts);
+}
+void intersect_nearest(SphereViewd spheres, std::span<const Rayd> rays, std::span<Hitd> out,
+                       std::size_t per_ray, std::span<std::size_t> counts) {
+  view_nearest_batch(spheres, rays, out, per_ray, counts);
+}
+void intersect_nearest(const SphereBVH& bvh, std::span<const Ray> rays, std::span<Hit> out,
+                       std::size_t per_ray, std::span<std::size_t> counts) {
+  tree_nearest_batch(bvh, rays, out, per_ray, counts);
+}
+void intersect_nearest(const SphereBVHd& bvh, std::span<const Rayd> rays, std::span<Hitd> out,
+                       std::size_t per_ray, std::span<std::size_t> counts) {
+  tree_nearest_batch(bvh, rays, out, per_ray, counts);
 }
 
 }  // namespace sphray
