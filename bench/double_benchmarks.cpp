@@ -6,6 +6,8 @@
 //   double-tree/<scene>/<kind>/<isa>/<float|double>     SphereBVH, SphereBVHd (isa auto: as
 //                                                        built without one)
 //   double-tree/<scene>/<kind>/embree/float             rtcIntersect1, one thread
+//   double-points/<scene>/nearest/auto/<float|double>    nearest(tree, point) at the incoherent
+//                                                        rays' origins
 #include <algorithm>
 #include <optional>
 #include <string>
@@ -104,6 +106,45 @@ void run_tree(benchmark::State& state, std::string_view scene, RayKind kind, std
   time_queries(state, d.view(), d.rays, query);
 }
 
+// The nearest sphere to each ray's origin, through a tree built without an instruction set (as a
+// caller gets it), in float or in double on the same points; each precision's answers checked
+// against its scalar reference first. Rate: points per second.
+void run_points(benchmark::State& state, std::string_view scene, bool in_double) {
+  const Workload& w = workload(scene, RayKind::incoherent);
+  const auto time = [&state](const auto& tree, const auto& view, const auto& points) {
+    for (std::size_t i = 0; i < points.size() && i < kSampleRays; ++i) {
+      const auto got = nearest(tree, points[i]), want = scalar::nearest(view, points[i]);
+      if (got.id != want.id || got.distance != want.distance)
+        return state.SkipWithError("the tree disagrees with the scalar reference");
+    }
+    std::size_t inside_count = 0;
+    for (auto _ : state) {
+      for (const auto& p : points) {
+        const auto n = nearest(tree, p);
+        inside_count += n.distance < 0 ? 1 : 0;
+        benchmark::DoNotOptimize(n);
+      }
+    }
+    const auto count = static_cast<std::int64_t>(points.size());
+    state.SetItemsProcessed(state.iterations() * count);
+    state.counters["points"] = static_cast<double>(count);
+    state.counters["spheres"] = static_cast<double>(view.count);
+    state.counters["inside_fraction"] =
+        static_cast<double>(inside_count) / static_cast<double>(state.iterations() * count);
+  };
+  if (!in_double) {
+    std::vector<Vec3> points;
+    for (const Ray& r : w.rays)
+      points.push_back(r.origin);
+    return time(SphereBVH(w.view()), w.view(), points);
+  }
+  const DoubleWorkload d(w, true);
+  std::vector<Vec3d> points;
+  for (const Rayd& r : d.rays)
+    points.push_back(r.origin);
+  time(SphereBVHd(d.view()), d.view(), points);
+}
+
 #if SPHRAY_BENCH_EMBREE
 // Embree's rtcIntersect1 on one thread over the same rays, as `embree-intersect1` runs it.
 void run_embree(benchmark::State& state, std::string_view scene, RayKind kind) {
@@ -179,6 +220,17 @@ void register_double_benchmarks() {
           ->UseRealTime()
           ->Unit(benchmark::kMillisecond);
 #endif
+    }
+  }
+  for (const std::string_view scene : {"rtiow-final", "random:4096", "random:65536"}) {
+    for (const bool in_double : {false, true}) {
+      const std::string name = "double-points/" + std::string(scene) + "/nearest/auto" +
+                               (in_double ? "/double" : "/float");
+      benchmark::RegisterBenchmark(
+          name.c_str(),
+          [scene, in_double](benchmark::State& s) { run_points(s, scene, in_double); })
+          ->UseRealTime()
+          ->Unit(benchmark::kMillisecond);
     }
   }
 }

@@ -17,7 +17,9 @@
 //   (docs/robustness.md, the known gaps), so zeros of either sign compare equal;
 //   4. in double (docs/double.md), on the same inputs scaled towards double's edges: rules 1
 //      and 2 for the brute force and surface(), the double scalar reference's answer, and the
-//      double tree's (built and refitted) equal to brute force's bit for bit.
+//      double tree's (built and refitted) equal to brute force's bit for bit;
+//   5. answer the point queries (nearest, inside, overlapping, overlapping_pairs) in float and
+//      double, by brute force and through each set's tree, as the scalar reference does.
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -35,6 +37,7 @@
 
 #include <sphray/sphray.hpp>
 
+#include "brute/validity.hpp"        // the contract's valid spheres (sphray_kernel_internals)
 #include "dispatch/entry_table.hpp"  // each instruction set's entry points (sphray_kernel_internals)
 
 namespace {
@@ -455,6 +458,78 @@ void check_bvh(const EntryTable& k, const std::vector<Ray>& rays, SphereView vie
 }
 
 // ---------------------------------------------------------------------------------------------
+// Point queries, in float and double: each kernel's brute force and the tree of its set against
+// the scalar reference, bit for bit, at the rays' origins and ends and at the spheres' centres;
+// the balls of the rays' tmax (or of a sphere's radius); the tree's overlapping pairs against
+// the pairs scalar::overlapping lists.
+
+template <class S>
+bool same_bits(S a, S b) {
+  return std::memcmp(&a, &b, sizeof(S)) == 0;
+}
+
+template <class S>
+bool same(const BasicNearest<S>& a, const BasicNearest<S>& b) {
+  return a.id == b.id && same_bits(a.distance, b.distance) && same_bits(a.point.x, b.point.x) &&
+         same_bits(a.point.y, b.point.y) && same_bits(a.point.z, b.point.z);
+}
+
+template <class S>
+void check_point(const EntryTable& k, BasicSphereView<S> view, const BasicSphereBVH<S>& bvh,
+                 BasicVec3<S> p, S radius, std::size_t i) {
+  const char* name = isa_name(k.isa).data();
+  const BasicNearest<S> want = scalar::nearest(view, p);
+  const BasicHit<S> brute =
+      detail::in_precision<S>(k.nearest, k.nearest_d)(view, p, std::numeric_limits<S>::infinity());
+  if (brute.id != want.id || (want.found() && !same_bits(brute.t, want.distance)))
+    fail("point: the nearest sphere differs from the scalar reference's", i, view.count, name);
+  if (!same(nearest(bvh, p), want))
+    fail("point: the tree's nearest sphere differs from the scalar reference's", i, view.count,
+         name);
+  if (inside(bvh, p) != (want.found() && want.distance < 0))
+    fail("point: the tree's inside() differs from the nearest distance's sign", i, view.count,
+         name);
+  std::vector<std::uint32_t> got(view.count + 1), expected(view.count + 1);
+  const std::size_t total = scalar::overlapping(view, p, radius, expected);
+  if (overlapping(bvh, p, radius, got) != total ||
+      !std::equal(got.begin(), got.begin() + static_cast<std::ptrdiff_t>(total), expected.begin()))
+    fail("point: the tree's overlapping() differs from the scalar reference's", i, view.count,
+         name);
+}
+
+template <class S>
+void check_points(const EntryTable& k, BasicSphereView<S> view, const BasicSphereBVH<S>& bvh,
+                  const std::vector<BasicRay<S>>& rays) {
+  std::size_t i = 0;
+  for (const BasicRay<S>& r : rays) {
+    const S radius = std::isfinite(r.tmax) ? std::fabs(r.tmax) : S(0);
+    check_point(k, view, bvh, r.origin, radius, i);
+    check_point(k, view, bvh, r.origin + r.dir, radius, i++);
+  }
+  for (std::size_t s = 0; s < view.count; ++s)
+    check_point(k, view, bvh, {view.cx[s], view.cy[s], view.cz[s]}, view.radius[s], s);
+
+  // The pairs: for each valid sphere i, the valid j > i that the ball of sphere i overlaps.
+  std::vector<IdPair> want, got;
+  std::vector<std::uint32_t> ids(view.count);
+  for (std::uint32_t a = 0; a < view.count; ++a) {
+    const BasicVec3<S> c{view.cx[a], view.cy[a], view.cz[a]};
+    if (!detail::valid_sphere(c, view.radius[a])) continue;
+    const std::size_t n = scalar::overlapping(view, c, view.radius[a], ids);
+    for (std::size_t j = 0; j < n; ++j)
+      if (ids[j] > a) want.push_back({a, ids[j]});
+  }
+  overlapping_pairs(bvh, got);
+  const auto order = [](IdPair a, IdPair b) {
+    return a.first != b.first ? a.first < b.first : a.second < b.second;
+  };
+  std::sort(got.begin(), got.end(), order);
+  if (got != want)
+    fail("point: the tree's overlapping pairs differ from the reference's", 0, view.count,
+         isa_name(k.isa).data());
+}
+
+// ---------------------------------------------------------------------------------------------
 // Double precision: the same inputs scaled into double's range, every instruction set's double
 // kernel against the double scalar reference bit for bit, and the contract's exact rules.
 
@@ -579,8 +654,10 @@ void check_double(const Input& in, const std::vector<const EntryTable*>& kernels
   for (const EntryTable* k : kernels) {
     SphereBVHd bvh(tight.suffix(n), k->isa, BvhBuildOptions{1});
     check_double_bvh(*k, rays, tight.suffix(n), bvh);
+    check_points(*k, tight.suffix(n), bvh, rays);
     bvh.refit(tight_reversed.suffix(n));
     check_double_bvh(*k, rays, tight_reversed.suffix(n), bvh);
+    check_points(*k, tight_reversed.suffix(n), bvh, rays);
   }
 }
 
@@ -647,8 +724,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (const EntryTable* k : kernels) {
     SphereBVH bvh(tight.suffix(n), k->isa, BvhBuildOptions{1});
     check_bvh(*k, in.rays, tight.suffix(n), truths, bvh);
+    check_points(*k, tight.suffix(n), bvh, in.rays);
     bvh.refit(reversed);
     check_bvh(*k, in.rays, reversed, reversed_truths, bvh);
+    check_points(*k, reversed, bvh, in.rays);
   }
   return 0;
 }
