@@ -9,8 +9,10 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <sphray/sphray.h>
@@ -349,7 +351,6 @@ TEST(CApiPrecision, ScenesRefuseTheOtherPrecisionsCalls) {
   EXPECT_EQ(sphray_overlapping(d, point, 1.0f, 1, &id, &n), SPHRAY_ERROR_PRECISION);
   EXPECT_EQ(sphray_scene_refit(d, fx, fx, fx, fr, 1, 0), SPHRAY_ERROR_PRECISION);
   EXPECT_EQ(sphray_scene_refit_d(f, dx, dx, dx, dr, 1, 0), SPHRAY_ERROR_PRECISION);
-  EXPECT_STREQ(sphray_status_name(SPHRAY_ERROR_PRECISION), "SPHRAY_ERROR_PRECISION");
 
   // The right precision's calls still answer, and the shared calls take both.
   ASSERT_EQ(sphray_intersect_d(d, &dray, 1, &dhit, nullptr), SPHRAY_OK);
@@ -406,6 +407,85 @@ TEST(CApiPrecision, DoubleArraysAreChecked) {
   EXPECT_EQ(sphray_spawn_d(nullptr, dirs, 1, &out), SPHRAY_ERROR_NULL_POINTER);
   EXPECT_EQ(sphray_spawn_d(nullptr, nullptr, 0, nullptr), SPHRAY_OK);  // empty work
   EXPECT_EQ(sphray_scene_release(scene), SPHRAY_OK);
+}
+
+// Every _d call of a batch, hostile: a NULL scene, a NULL input or output, a count beyond the
+// address space, a released scene; each refused with its status and its function's name in
+// the message, none crashing; and each answering once the arguments are right.
+TEST(CApiPrecision, DoubleCallsRefuseNullPointersBadCountsAndReleasedScenes) {
+  const double c[2] = {0, 3}, r[2] = {1, 1};
+  sphray_scene* scene = nullptr;
+  ASSERT_EQ(sphray_scene_create_d(c, c, c, r, 2, 0, nullptr, &scene), SPHRAY_OK);
+  const sphray_ray_d rays[2] = {{0, 0, -5, 0, 0, 1, 0, INFINITY}, {9, 9, 9, 1, 0, 0, 0, INFINITY}};
+  const double points[6] = {0, 0, 0, 9, 9, 9};
+  sphray_hit_d hits[2];
+  sphray_hit_surface_d surfaces[2];
+  sphray_nearest_sphere_d nearest[2];
+  unsigned char flags[2];
+  std::size_t counts[2];
+  // call(scene, input or NULL, output or NULL, count): one entry per _d batch call.
+  using Call = std::function<int(const sphray_scene*, bool, bool, std::size_t)>;
+  const std::vector<std::pair<const char*, Call>> calls = {
+      {"sphray_intersect_d",
+       [&](const sphray_scene* s, bool in, bool out, std::size_t n) {
+         return sphray_intersect_d(s, in ? rays : nullptr, n, out ? hits : nullptr, nullptr);
+       }},
+      {"sphray_occluded_d",
+       [&](const sphray_scene* s, bool in, bool out, std::size_t n) {
+         return sphray_occluded_d(s, in ? rays : nullptr, n, out ? flags : nullptr, nullptr);
+       }},
+      {"sphray_surface_d",
+       [&](const sphray_scene* s, bool in, bool out, std::size_t n) {
+         return sphray_surface_d(s, in ? rays : nullptr, hits, n, out ? surfaces : nullptr);
+       }},
+      {"sphray_intersect_all_d",
+       [&](const sphray_scene* s, bool in, bool out, std::size_t n) {
+         return sphray_intersect_all_d(s, in ? rays : nullptr, n, 0, nullptr, nullptr,
+                                       out ? counts : nullptr, nullptr);
+       }},
+      {"sphray_intersect_nearest_d",
+       [&](const sphray_scene* s, bool in, bool out, std::size_t n) {
+         return sphray_intersect_nearest_d(s, in ? rays : nullptr, n, 1, hits, nullptr,
+                                           out ? counts : nullptr, nullptr);
+       }},
+      {"sphray_count_hits_d",
+       [&](const sphray_scene* s, bool in, bool out, std::size_t n) {
+         return sphray_count_hits_d(s, in ? rays : nullptr, n, out ? counts : nullptr, nullptr);
+       }},
+      {"sphray_nearest_d",
+       [&](const sphray_scene* s, bool in, bool out, std::size_t n) {
+         return sphray_nearest_d(s, in ? points : nullptr, n, INFINITY, out ? nearest : nullptr,
+                                 nullptr);
+       }},
+      {"sphray_inside_d",
+       [&](const sphray_scene* s, bool in, bool out, std::size_t n) {
+         return sphray_inside_d(s, in ? points : nullptr, n, out ? flags : nullptr, nullptr);
+       }},
+  };
+  const auto expect = [](int status, int want, const char* f, const char* says) {
+    EXPECT_EQ(status, want) << f;
+    const std::string message = sphray_last_error();
+    EXPECT_NE(message.find(f), std::string::npos) << message;
+    EXPECT_NE(message.find(says), std::string::npos) << message;
+  };
+  const std::size_t huge = PTRDIFF_MAX;
+  for (const auto& [f, call] : calls) {
+    expect(call(nullptr, true, true, 2), SPHRAY_ERROR_NULL_POINTER, f, "scene is NULL");
+    expect(call(scene, false, true, 2), SPHRAY_ERROR_NULL_POINTER, f, "is NULL");
+    expect(call(scene, true, false, 2), SPHRAY_ERROR_NULL_POINTER, f, "is NULL");
+    expect(call(scene, true, true, huge), SPHRAY_ERROR_TOO_LARGE, f, "count exceeds");
+    EXPECT_EQ(call(scene, true, true, 2), SPHRAY_OK) << f << ": " << sphray_last_error();
+  }
+  std::size_t total = 0;
+  expect(sphray_overlapping_d(scene, nullptr, 1.0, 0, nullptr, &total), SPHRAY_ERROR_NULL_POINTER,
+         "sphray_overlapping_d", "centre is NULL");
+  ASSERT_EQ(sphray_scene_release(scene), SPHRAY_OK);
+  for (const auto& [f, call] : calls)
+    expect(call(scene, true, true, 2), SPHRAY_ERROR_RELEASED_SCENE, f, "released");
+  expect(sphray_overlapping_d(scene, points, 1.0, 0, nullptr, &total), SPHRAY_ERROR_RELEASED_SCENE,
+         "sphray_overlapping_d", "released");
+  expect(sphray_scene_refit_d(scene, c, c, c, r, 2, 0), SPHRAY_ERROR_RELEASED_SCENE,
+         "sphray_scene_refit_d", "released");
 }
 
 }  // namespace
