@@ -22,4 +22,8 @@ void IdCollector::finish() {
   std::sort_heap(ids, ids + size);
 }
 
+void append_pair(std::vector<IdPair>& out, std::uint32_t first, std::uint32_t second) {
+  out.push_back({first, second});
+}
+
 }  // namespace sphray::detail

@@ -20,6 +20,7 @@
 #include "bvh/box_test.hpp"
 #include "bvh/bvh_data.hpp"
 #include "bvh/node.hpp"
+#include "point/id_collector.hpp"
 #include "point/point_lanes.hpp"
 #include "simd/isa_namespace.hpp"
 #include "simd/lane_reduce.hpp"
@@ -192,7 +193,7 @@ struct OverlapPairs {
         const auto b = static_cast<unsigned>(__builtin_ctz(candidates));
         const std::uint32_t id_b = ids[first + b];
         if (((id_a < id_b ? a_asks : b_asks) >> b & 1u) != 0)
-          out.push_back({std::min(id_a, id_b), std::max(id_a, id_b)});
+          append_pair(out, std::min(id_a, id_b), std::max(id_a, id_b));
       }
     }
   }
