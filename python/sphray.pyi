@@ -12,24 +12,26 @@ NO_HIT: int
 
 _ArrayLike = npt.ArrayLike
 _Bound = Union[float, npt.ArrayLike]
+# A Scene's real-valued results: float32 for a scene of precision "float", float64 for "double".
+_Real = npt.NDArray[Union[np.float32, np.float64]]
 
 class Hits(NamedTuple):
     """Scene.intersect()'s closest hit of each ray. Unpacks as t, ids = ..."""
 
-    t: npt.NDArray[np.float32]
+    t: _Real
     ids: npt.NDArray[np.uint32]
 
 class Surface(NamedTuple):
     """Scene.surface(), where each ray meets its hit."""
 
-    points: npt.NDArray[np.float32]
-    normals: npt.NDArray[np.float32]
+    points: _Real
+    normals: _Real
     front_face: npt.NDArray[np.bool_]
 
 class Crossings(NamedTuple):
     """Scene.intersect_all(), every crossing of each ray."""
 
-    t: npt.NDArray[np.float32]
+    t: _Real
     ids: npt.NDArray[np.uint32]
     exits: npt.NDArray[np.bool_]
     counts: npt.NDArray[np.uint64]
@@ -37,7 +39,7 @@ class Crossings(NamedTuple):
 class NearestCrossings(NamedTuple):
     """Scene.intersect_nearest(), the nearest k crossings of each ray alone."""
 
-    t: npt.NDArray[np.float32]
+    t: _Real
     ids: npt.NDArray[np.uint32]
     exits: npt.NDArray[np.bool_]
     counts: npt.NDArray[np.uint64]
@@ -46,8 +48,8 @@ class Nearest(NamedTuple):
     """Scene.nearest(), the sphere nearest each point."""
 
     ids: npt.NDArray[np.uint32]
-    distances: npt.NDArray[np.float32]
-    surface_points: npt.NDArray[np.float32]
+    distances: _Real
+    surface_points: _Real
 
 class Overlaps(NamedTuple):
     """Scene.overlaps(): ball i's spheres are ids[offsets[i]:offsets[i + 1]]."""
@@ -69,7 +71,8 @@ class Particles(NamedTuple):
     colors: Optional[npt.NDArray[np.float32]]
 
 class Scene:
-    """Spheres to trace rays against: Scene(centers (N, 3), radii (N,), accel="auto")."""
+    """Spheres to trace rays against: Scene(centers (N, 3), radii (N,), accel="auto"), in float
+    or double (precision: double when centers or radii are float64)."""
 
     def __init__(
         self,
@@ -77,6 +80,7 @@ class Scene:
         radii: _ArrayLike,
         accel: Literal["auto", "bvh", "brute"] = "auto",
         masks: Optional[_ArrayLike] = None,
+        precision: Optional[Literal["float", "double"]] = None,
     ) -> None: ...
     def intersect(
         self,
@@ -111,7 +115,7 @@ class Scene:
         t: _ArrayLike,
         ids: _ArrayLike,
         new_directions: _ArrayLike,
-    ) -> npt.NDArray[np.float32]:
+    ) -> _Real:
         """Origins of rays leaving each hit towards new_directions (sphray::spawn)."""
     def intersect_all(
         self,
@@ -160,10 +164,13 @@ class Scene:
     @property
     def uses_bvh(self) -> bool: ...
     @property
-    def centers(self) -> npt.NDArray[np.float32]:
+    def precision(self) -> Literal["float", "double"]:
+        """The kernel the queries run: float32 arrays in and out, or float64."""
+    @property
+    def centers(self) -> _Real:
         """A read-only view of the (N, 3) array the scene reads: yours if it was not copied."""
     @property
-    def radii(self) -> npt.NDArray[np.float32]:
+    def radii(self) -> _Real:
         """A read-only view of the (N,) array the scene reads: yours if it was not copied."""
 
 def load(path: Union[str, bytes, "PathLike[str]"], radius: Optional[float] = None) -> Particles:

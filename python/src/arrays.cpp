@@ -8,18 +8,28 @@
 namespace sphray::python {
 namespace {
 
-// A float32 array's strides in whole floats, or false when some stride is not a multiple of
-// four bytes or the data is misaligned (a view into a packed record, say): such arrays are
-// converted rather than read through a misaligned float pointer.
-bool float_strides(const py::array& a, std::vector<std::ptrdiff_t>& strides) {
-  if (!a.dtype().is(py::dtype::of<float>())) return false;
-  if (reinterpret_cast<std::uintptr_t>(a.data()) % alignof(float) != 0) return false;
+// An array of S's strides in whole elements, or false when it does not hold S (holds()) or
+// some stride is not a multiple of sizeof(S): such arrays are converted rather than read
+// through a misaligned pointer.
+template <Scalar S>
+bool element_strides(const py::array& a, std::vector<std::ptrdiff_t>& strides) {
+  if (!holds<S>(a)) return false;
   strides.clear();
   for (py::ssize_t d = 0; d < a.ndim(); ++d) {
-    if (a.strides(d) % static_cast<py::ssize_t>(sizeof(float)) != 0) return false;
-    strides.push_back(a.strides(d) / static_cast<py::ssize_t>(sizeof(float)));
+    if (a.strides(d) % static_cast<py::ssize_t>(sizeof(S)) != 0) return false;
+    strides.push_back(a.strides(d) / static_cast<py::ssize_t>(sizeof(S)));
   }
   return true;
+}
+
+// a's data as S with its strides in elements: a itself when element_strides() can read it, else
+// its C-contiguous copy of dtype S (which it always can). Returns the array data points into.
+template <Scalar S>
+py::array readable(const char* what, const py::array& a, std::vector<std::ptrdiff_t>& strides) {
+  if (element_strides<S>(a, strides)) return a;
+  py::array copy = converted<S, py::array::c_style>(what, a);
+  element_strides<S>(copy, strides);
+  return copy;
 }
 
 // a with its leading axes merged into one, as a view where numpy can make one (always for
@@ -105,7 +115,8 @@ py::array as_real_array(const char* what, const py::handle& obj) {
   return a;
 }
 
-Vec3Rows::Vec3Rows(const char* what, const py::handle& obj) {
+template <Scalar S>
+Vec3Rows<S>::Vec3Rows(const char* what, const py::handle& obj) {
   py::array a = as_real_array(what, obj);
   if (a.ndim() < 2 || a.shape(a.ndim() - 1) != 3) {
     throw py::value_error(std::string(what) + ": expected shape (M, 3) (or (..., 3)), got " +
@@ -114,47 +125,43 @@ Vec3Rows::Vec3Rows(const char* what, const py::handle& obj) {
   shape_ = shape_text(a);
   leading_ = shape_of(a);
   leading_.pop_back();
-  py::array flat = flatten_leading(what, a, true);
   std::vector<std::ptrdiff_t> strides;
-  if (!float_strides(flat, strides)) {
-    flat = converted<float, py::array::c_style>(what, flat);
-    float_strides(flat, strides);
-  }
-  array_ = flat;
-  data_ = static_cast<const float*>(flat.data());
-  rows_ = static_cast<std::size_t>(flat.shape(0));
+  array_ = readable<S>(what, flatten_leading(what, a, true), strides);
+  data_ = static_cast<const S*>(array_.data());
+  rows_ = static_cast<std::size_t>(array_.shape(0));
   row_stride_ = strides[0];
   col_stride_ = strides[1];
 }
 
-FloatPerRow::FloatPerRow(const char* what, const py::handle& obj,
-                         const std::vector<py::ssize_t>& shape) {
+template <Scalar S>
+ScalarPerRow<S>::ScalarPerRow(const char* what, const py::handle& obj,
+                              const std::vector<py::ssize_t>& shape) {
   if (PyFloat_Check(obj.ptr()) || (PyLong_Check(obj.ptr()) && !PyBool_Check(obj.ptr()))) {
     // A Python number as Python converts it: an int beyond float's range is OverflowError.
     const double v = PyFloat_AsDouble(obj.ptr());
     if (v == -1.0 && PyErr_Occurred()) throw py::error_already_set();
-    scalar_ = static_cast<float>(v);
+    scalar_ = static_cast<S>(v);
     return;
   }
   py::array a = as_real_array(what, obj);
   if (a.ndim() == 0) {  // a numpy scalar (np.float32(10), m[0]) or a 0-d array
-    scalar_ = static_cast<float>(*converted<double, py::array::c_style>(what, a).data());
+    scalar_ = static_cast<S>(*converted<double, py::array::c_style>(what, a).data());
     return;
   }
   if (shape_of(a) != shape) {
     throw py::value_error(std::string(what) + ": expected a scalar or shape " + shape_text(shape) +
                           " (one per ray), got " + shape_text(a));
   }
-  py::array flat = flatten_leading(what, a, false);
   std::vector<std::ptrdiff_t> strides;
-  if (!float_strides(flat, strides)) {
-    flat = converted<float, py::array::c_style>(what, flat);
-    float_strides(flat, strides);
-  }
-  array_ = flat;
-  data_ = static_cast<const float*>(flat.data());
+  array_ = readable<S>(what, flatten_leading(what, a, false), strides);
+  data_ = static_cast<const S*>(array_.data());
   stride_ = strides[0];
 }
+
+template class Vec3Rows<float>;
+template class Vec3Rows<double>;
+template class ScalarPerRow<float>;
+template class ScalarPerRow<double>;
 
 // The values of an integer array of the given shape as uint32: ids or masks ("kind").
 std::vector<std::uint32_t> uint32_values(const char* what, const py::handle& obj,

@@ -1,8 +1,9 @@
 // Reading numpy arrays for the module: shape and dtype checks with numpy's exceptions, and
-// float32 data read in place wherever the layout allows it.
+// data of the scene's precision (float32 for a float scene, float64 for a double one) read in
+// place wherever the layout allows it.
 //
-// Every reader keeps the array it reads from (the caller's, or the one float32 conversion
-// made of it) alive for as long as it lives, and exposes plain pointers and element strides
+// Every reader keeps the array it reads from (the caller's, or the one conversion made of it)
+// alive for as long as it lives, and exposes plain pointers and element strides
 // that may be used with the GIL released.
 #pragma once
 
@@ -46,7 +47,7 @@ auto numpy_call(const char* what, Call&& call) -> decltype(call()) {
 /// itself when it is one already, else numpy's converted copy. Errors as numpy_call.
 /// Alignment is asked for explicitly: pybind11's flags leave it out, and numpy then returns a
 /// misaligned float32 array (a view into packed bytes) as it is, which the readers here cannot
-/// read through a float pointer.
+/// read through a float (or double) pointer.
 template <typename T, int Flags>
 auto converted(const char* what, const py::handle& obj) {
   constexpr int kFlags = Flags | py::array::forcecast | py::detail::npy_api::NPY_ARRAY_ALIGNED_;
@@ -59,12 +60,22 @@ auto converted(const char* what, const py::handle& obj) {
 /// numpy's own errors (a ragged list, no memory) as numpy_call.
 py::array as_real_array(const char* what, const py::handle& obj);
 
+/// Whether a holds S (float32 for float, float64 for double) at an address aligned for S: what
+/// the readers may read in place (a view into packed records may be neither).
+template <Scalar S>
+bool holds(const py::array& a) {
+  return a.dtype().is(py::dtype::of<S>()) &&
+         reinterpret_cast<std::uintptr_t>(a.data()) % alignof(S) == 0;
+}
+
 /// A read-only view of a (the same data): what the Scene's centers and radii attributes give,
 /// so that writing through them cannot change the spheres behind the tree's back.
 py::array read_only_view(const py::array& a);
 
-/// Rows of three floats, (..., 3): read in place when the array is float32 with strides that
-/// are whole floats, otherwise converted once to a C-contiguous float32 copy.
+/// Rows of three scalars of type S (float or double, the scene's precision), (..., 3): read in
+/// place when the array's dtype is S with strides that are whole elements, otherwise converted
+/// once to a C-contiguous copy of dtype S.
+template <Scalar S>
 class Vec3Rows {
  public:
   /// Throws ValueError unless obj's shape is (..., 3) with at least one leading dimension.
@@ -73,39 +84,45 @@ class Vec3Rows {
   std::size_t size() const { return rows_; }
   /// The shape without its last axis: the shape of one value per row.
   const std::vector<py::ssize_t>& leading_shape() const { return leading_; }
-  Vec3 operator[](std::size_t i) const {
-    const float* p = data_ + static_cast<std::ptrdiff_t>(i) * row_stride_;
+  BasicVec3<S> operator[](std::size_t i) const {
+    const S* p = data_ + static_cast<std::ptrdiff_t>(i) * row_stride_;
     return {p[0], p[col_stride_], p[2 * col_stride_]};
   }
   /// The shape the caller gave, as numpy prints it.
   const std::string& shape() const { return shape_; }
 
  private:
-  py::array array_;  // what data_ points into: the caller's array, or its float32 copy
+  py::array array_;  // what data_ points into: the caller's array, or its copy of dtype S
   std::string shape_;
-  const float* data_ = nullptr;
-  std::ptrdiff_t row_stride_ = 0, col_stride_ = 0;  // in floats
+  const S* data_ = nullptr;
+  std::ptrdiff_t row_stride_ = 0, col_stride_ = 0;  // in elements
   std::size_t rows_ = 0;
   std::vector<py::ssize_t> leading_;
 };
 
-/// One float per row, for a batch of the given leading shape: a scalar (the same for every
-/// row: a Python or numpy number, or a 0-d array) or an array of exactly that shape. Read in
-/// place when float32 and strided in whole floats.
-class FloatPerRow {
+/// One scalar of type S per row, for a batch of the given leading shape: a scalar (the same for
+/// every row: a Python or numpy number, or a 0-d array) or an array of exactly that shape. Read
+/// in place when of dtype S and strided in whole elements.
+template <Scalar S>
+class ScalarPerRow {
  public:
-  FloatPerRow(const char* what, const py::handle& obj, const std::vector<py::ssize_t>& shape);
+  ScalarPerRow(const char* what, const py::handle& obj, const std::vector<py::ssize_t>& shape);
 
-  float operator[](std::size_t i) const {
+  S operator[](std::size_t i) const {
     return data_ == nullptr ? scalar_ : data_[static_cast<std::ptrdiff_t>(i) * stride_];
   }
 
  private:
   py::array array_;
-  const float* data_ = nullptr;  // null: every row takes scalar_
+  const S* data_ = nullptr;  // null: every row takes scalar_
   std::ptrdiff_t stride_ = 0;
-  float scalar_ = 0.0f;
+  S scalar_ = 0;
 };
+
+extern template class Vec3Rows<float>;
+extern template class Vec3Rows<double>;
+extern template class ScalarPerRow<float>;
+extern template class ScalarPerRow<double>;
 
 /// One sphere id per row, an array of exactly the given leading shape with an integer dtype;
 /// values outside [0, 2^32 - 1] raise ValueError (an id of no sphere is a miss, as the kernel

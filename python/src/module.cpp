@@ -48,11 +48,17 @@ Every instruction set returns the same bits.)doc";
 
 constexpr const char* kSceneDoc = R"doc(Spheres to trace rays against.
 
-Scene(centers, radii, accel="auto", masks=None)
+Scene(centers, radii, accel="auto", masks=None, precision=None)
 
-centers: (N, 3) array of sphere centres; radii: (N,) array. Any real dtype; the kernel
-computes in float32. Sphere i has id i. A sphere with radius <= 0 or a NaN or infinite
-value is never hit.
+centers: (N, 3) array of sphere centres; radii: (N,) array. Any real dtype. Sphere i has id
+i. A sphere with radius <= 0 or a NaN or infinite value is never hit.
+
+precision: None, "float" or "double". None: a double scene when centers or radii are
+float64 (numpy's default, and lists of Python floats), else float (float32, float16,
+integers). A double scene runs the double kernel: it reads float64 arrays (spheres, rays,
+bounds, points) as they are, converts other dtypes to float64, and returns float64 where a
+float scene returns float32. scene.precision says which. Rendering is float: render() rounds
+a double scene's spheres to float.
 
 masks: None, or (N,) integers in [0, 2**32 - 1] (copied as uint32). The ray queries take a
 mask= keyword (an integer, numpy's included, or one per ray; default every bit): a ray sees
@@ -62,19 +68,20 @@ accel: "auto" builds a bounding volume hierarchy (BVH) from 128 spheres on and t
 small scenes by brute force; "bvh" and "brute" force one or the other. Both return the
 same results, bit for bit.
 
-No copy is made of float32 arrays the kernel can read as they are: radii contiguous,
-centers with contiguous columns (Fortran order, e.g. np.asfortranarray(c, np.float32)
-or the transpose of a (3, N) array). A C-ordered (N, 3) array is copied once into that
-layout. The `centers` and `radii` attributes are read-only views of the arrays the scene
+No copy is made of arrays of the scene's dtype (float32, or float64 for double) that the
+kernel can read as they are: radii contiguous, centers with contiguous columns (Fortran
+order, e.g. np.asfortranarray(c, np.float32) or the transpose of a (3, N) array). A
+C-ordered (N, 3) array is copied once into that layout. The `centers` and `radii` attributes are read-only views of the arrays the scene
 reads; while a scene reads your arrays in place, write to them only between queries and
 call refit() afterwards (the BVH keeps its own copy of the spheres and sees changes only
 then).)doc";
 
-constexpr const char* kInitDoc = R"doc(init(self, centers, radii, accel="auto", masks=None)
+constexpr const char* kInitDoc =
+    R"doc(init(self, centers, radii, accel="auto", masks=None, precision=None)
 --
 
-Spheres from centers (N, 3) and radii (N,), and optionally one uint32 mask each: see
-help(sphray.Scene). Raises RuntimeError on a scene already initialised.)doc";
+Spheres from centers (N, 3) and radii (N,), and optionally one uint32 mask each, in float or
+double (precision; None: double when centers or radii are float64): see help(sphray.Scene). Raises RuntimeError on a scene already initialised.)doc";
 
 constexpr const char* kIntersectDoc =
     R"doc(intersect(self, origins, directions, tmin=0.0, tmax=math.inf, mask=0xffffffff)
@@ -86,7 +93,7 @@ origins, directions: (M, 3) arrays (or (..., 3): the results then have shape (..
 need not be unit length: t is measured in units of the direction. tmin, tmax: scalars or arrays
 of shape (M,); a hit needs tmin < t < tmax.
 
-hits.t, float32 (M,), and hits.ids, uint32 (M,): on a miss ids[i] == NO_HIT and
+hits.t, float32 (M,) (float64 for a double scene), and hits.ids, uint32 (M,): on a miss ids[i] == NO_HIT and
 t[i] == tmax. Equal t on two spheres: the lower id. A ray starting inside a sphere hits its
 far side. A ray with a NaN or infinite component, a zero direction, a NaN bound or
 tmin >= tmax misses.)doc";
@@ -106,8 +113,9 @@ constexpr const char* kSurfaceDoc =
 
 Where each ray meets its hit: Surface(points, normals, front_face), a named tuple.
 
-t and ids as intersect() returned them. points: float32 (M, 3), on the sphere (re-projected
-from the ray's t); normals: float32 (M, 3), the outward unit normals; front_face: bool (M,),
+t and ids as intersect() returned them. points: float32 (M, 3) (float64 for a double scene),
+on the sphere (re-projected from the ray's t); normals: the same dtype (M, 3), the outward unit
+normals; front_face: bool (M,),
 True where the ray arrived from outside. For a miss (ids == NO_HIT, or an id of no sphere):
 the point origin + t * direction, a zero normal and front_face False.)doc";
 
@@ -120,7 +128,8 @@ to new_directions' side, just past the point's computed rounding error (sphray.s
 docs/kernel.md, "Leaving a surface"). A ray from there with direction new_directions never meets
 the same sphere again on the side it leaves, at any scale; a fixed offset such as
 points + 1e-3 * normals does, or skips thin gaps. origins, directions, t and ids as for
-surface(); new_directions: (M, 3). Returns float32 (M, 3). For a miss: surface()'s point.)doc";
+surface(); new_directions: (M, 3). Returns float32 (M, 3) (float64 for a double scene). For a
+miss: surface()'s point.)doc";
 
 constexpr const char* kIntersectAllDoc =
     R"doc(intersect_all(self, origins, directions, max_hits=16, tmin=0.0, tmax=math.inf,
@@ -129,7 +138,8 @@ constexpr const char* kIntersectAllDoc =
 
 Every crossing of each ray with the spheres' surfaces, not only the first.
 
-Returns Crossings(t, ids, exits, counts), a named tuple: t float32, ids uint32 and exits bool of
+Returns Crossings(t, ids, exits, counts), a named tuple: t float32 (float64 for a double
+scene), ids uint32 and exits bool of
 shape (..., max_hits), the first max_hits crossings of each ray in (tmin, tmax), sorted by t,
 then id, then entry before exit (a sphere's near root enters it, its far root leaves it); counts
 uint64 of shape (...), how many crossings each ray has in all (more than max_hits when they did
@@ -165,7 +175,7 @@ inside; inside overlapping spheres, the one the point is deepest in), among thos
 max_distance.
 
 Returns Nearest(ids, distances, surface_points), a named tuple: uint32 (...), float32 (...) and
-float32 (..., 3), the closest point of that sphere's surface. A point with none: id NO_HIT,
+float32 (..., 3) (float64 for a double scene), the closest point of that sphere's surface. A point with none: id NO_HIT,
 distance max_distance, surface point the point itself.)doc";
 
 constexpr const char* kInsideDoc = R"doc(inside(self, points)
@@ -232,7 +242,8 @@ Renders a scene to an image: one of the renderer's, or spheres of your own, as a
 (height, width, 3).
 
 scene: a preset ("single", "three", "rtiow-final", "random:N"), a JSON scene file, a
-sphray.Scene, or (centers, radii) arrays. Your own spheres are grey Lambertian, or coloured by
+sphray.Scene, or (centers, radii) arrays (the renderer is float: a double scene's spheres are
+rounded to float). Your own spheres are grey Lambertian, or coloured by
 colors (N, 3) in [0, 1], with materials (one dict, or one per sphere) as scene files write
 them ({"type": "metal", "albedo": [...], "fuzz": 0.1}, ...); without a camera they are framed
 whole from +z. camera: a dict as
@@ -359,9 +370,10 @@ PYBIND11_MODULE(sphray, m) {
 
   py::class_<Scene> scene_class(m, "Scene", kSceneDoc);
   scene_class
-      .def(py::init<const py::handle&, const py::handle&, const std::string&, const py::handle&>(),
+      .def(py::init<const py::handle&, const py::handle&, const std::string&, const py::handle&,
+                    const py::handle&>(),
            py::arg("centers"), py::arg("radii"), py::arg("accel") = "auto",
-           py::arg("masks") = py::none(), kInitDoc)
+           py::arg("masks") = py::none(), py::arg("precision") = py::none(), kInitDoc)
       .def("intersect", on_scene(&Scene::intersect), py::arg("origins"), py::arg("directions"),
            py::arg("tmin") = 0.0, py::arg("tmax") = INFINITY, py::arg("mask") = sphray::kAllBits,
            kIntersectDoc)
@@ -395,16 +407,19 @@ PYBIND11_MODULE(sphray, m) {
            "__len__(self)\n--\n\nlen(scene): the number of spheres.")
       .def_property_readonly("uses_bvh", on_scene(&Scene::uses_bvh),
                              "Whether a BVH answers the queries (else brute force).")
+      .def_property_readonly("precision", on_scene(&Scene::precision),
+                             "'float' or 'double': the kernel the queries run, and the float "
+                             "dtype of the arrays they read and return (float32, float64).")
       .def_property_readonly("centers", on_scene(&Scene::centers),
-                             "A read-only view of the (N, 3) float32 array the scene reads: "
-                             "yours if not copied.")
+                             "A read-only view of the (N, 3) array the scene reads (float32, or "
+                             "float64 for a double scene): yours if not copied.")
       .def_property_readonly("radii", on_scene(&Scene::radii),
-                             "A read-only view of the (N,) float32 array the scene reads: yours "
-                             "if not copied.")
+                             "A read-only view of the (N,) array the scene reads (float32, or "
+                             "float64 for a double scene): yours if not copied.")
       .def("__repr__", [](py::handle self) {
         const Scene& s = scene_in(self);
         return "<sphray.Scene: " + std::to_string(s.size()) + " spheres, " +
-               (s.uses_bvh() ? "BVH" : "brute force") + ">";
+               (s.uses_bvh() ? "BVH" : "brute force") + ", " + s.precision() + ">";
       });
   // pybind11 ignores a second __init__ on a constructed instance without a word. A scene's
   // spheres change only through refit() (same count, ids kept, queries in other threads waited

@@ -26,42 +26,46 @@ namespace sphray::python {
 // More slots per ray than any real use and small enough that rays * slots cannot overflow.
 constexpr std::size_t kMaxHitsPerRay = 1 << 20;
 
-py::tuple Scene::intersect_all(const py::handle& origins, const py::handle& directions,
-                               std::size_t max_hits, const py::handle& tmin, const py::handle& tmax,
-                               const py::handle& mask) const {
+template <Scalar S>
+py::tuple SceneOf<S>::intersect_all(const py::handle& origins, const py::handle& directions,
+                                    std::size_t max_hits, const py::handle& tmin,
+                                    const py::handle& tmax, const py::handle& mask) const {
   return crossings(origins, directions, max_hits, tmin, tmax, mask, Crossings::all);
 }
 
-py::tuple Scene::intersect_nearest(const py::handle& origins, const py::handle& directions,
-                                   std::size_t k, const py::handle& tmin, const py::handle& tmax,
-                                   const py::handle& mask) const {
+template <Scalar S>
+py::tuple SceneOf<S>::intersect_nearest(const py::handle& origins, const py::handle& directions,
+                                        std::size_t k, const py::handle& tmin,
+                                        const py::handle& tmax, const py::handle& mask) const {
   return crossings(origins, directions, k, tmin, tmax, mask, Crossings::nearest);
 }
 
-py::tuple Scene::crossings(const py::handle& origins, const py::handle& directions,
-                           std::size_t max_hits, const py::handle& tmin, const py::handle& tmax,
-                           const py::handle& mask, Crossings which) const {
+template <Scalar S>
+py::tuple SceneOf<S>::crossings(const py::handle& origins, const py::handle& directions,
+                                std::size_t max_hits, const py::handle& tmin,
+                                const py::handle& tmax, const py::handle& mask,
+                                Crossings which) const {
   if (max_hits > kMaxHitsPerRay) {
     throw py::value_error("max_hits: expected 0 to " + std::to_string(kMaxHitsPerRay) + ", got " +
                           std::to_string(max_hits));
   }
-  const RayArguments args(origins, directions, tmin, tmax, mask);
-  const Vec3Rows& o = args.origins;
+  const RayArguments<S> args(origins, directions, tmin, tmax, mask);
+  const Vec3Rows<S>& o = args.origins;
   const auto slots = static_cast<py::ssize_t>(max_hits);
-  auto t = new_array<float>(o.leading_shape(), {slots});
+  auto t = new_array<S>(o.leading_shape(), {slots});
   auto ids = new_array<std::uint32_t>(o.leading_shape(), {slots});
   auto exits = new_array<bool>(o.leading_shape(), {slots});
   auto counts = new_array<std::uint64_t>(o.leading_shape());
-  float* t_out = t.mutable_data();
+  S* t_out = t.mutable_data();
   std::uint32_t* id_out = ids.mutable_data();
   bool* exit_out = exits.mutable_data();
   std::uint64_t* count_out = counts.mutable_data();
-  const RayBatch rays = args.batch();
+  const RayBatch<S> rays = args.batch();
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
     for_each_chunk(rays.size(), [&](std::size_t begin, std::size_t end) {
-      std::vector<Hit> hits(max_hits);
+      std::vector<HitS> hits(max_hits);
       auto flags = std::make_unique<bool[]>(max_hits + 1);
       const std::span<bool> exit_span(flags.get(), max_hits);
       for (std::size_t i = begin; i < end; ++i) {
@@ -84,14 +88,15 @@ py::tuple Scene::crossings(const py::handle& origins, const py::handle& directio
                      {t, ids, exits, counts});
 }
 
-py::array Scene::count_hits(const py::handle& origins, const py::handle& directions,
-                            const py::handle& tmin, const py::handle& tmax,
-                            const py::handle& mask) const {
-  const RayArguments args(origins, directions, tmin, tmax, mask);
-  const Vec3Rows& o = args.origins;
+template <Scalar S>
+py::array SceneOf<S>::count_hits(const py::handle& origins, const py::handle& directions,
+                                 const py::handle& tmin, const py::handle& tmax,
+                                 const py::handle& mask) const {
+  const RayArguments<S> args(origins, directions, tmin, tmax, mask);
+  const Vec3Rows<S>& o = args.origins;
   auto counts = new_array<std::uint64_t>(o.leading_shape());
   std::uint64_t* out = counts.mutable_data();
-  const RayBatch rays = args.batch();
+  const RayBatch<S> rays = args.batch();
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
@@ -105,21 +110,23 @@ py::array Scene::count_hits(const py::handle& origins, const py::handle& directi
   return counts;
 }
 
-py::tuple Scene::nearest(const py::handle& points, float max_distance) const {
-  const Vec3Rows p("points", points);
+template <Scalar S>
+py::tuple SceneOf<S>::nearest(const py::handle& points, double max_distance) const {
+  const Vec3Rows<S> p("points", points);
+  const auto limit = static_cast<S>(max_distance);
   auto ids = new_array<std::uint32_t>(p.leading_shape());
-  auto distances = new_array<float>(p.leading_shape());
-  auto surface_points = new_array<float>(p.leading_shape(), {3});
+  auto distances = new_array<S>(p.leading_shape());
+  auto surface_points = new_array<S>(p.leading_shape(), {3});
   std::uint32_t* id_out = ids.mutable_data();
-  float* d_out = distances.mutable_data();
-  float* p_out = surface_points.mutable_data();
+  S* d_out = distances.mutable_data();
+  S* p_out = surface_points.mutable_data();
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
     for_each_chunk(p.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i) {
-        const Nearest n = answer(
-            [&](const auto& spheres) { return sphray::nearest(spheres, p[i], max_distance); });
+        const BasicNearest<S> n =
+            answer([&](const auto& spheres) { return sphray::nearest(spheres, p[i], limit); });
         id_out[i] = n.id;
         d_out[i] = n.distance;
         for (int k = 0; k < 3; ++k)
@@ -130,8 +137,9 @@ py::tuple Scene::nearest(const py::handle& points, float max_distance) const {
   return make_result(Result::nearest, {ids, distances, surface_points});
 }
 
-py::array Scene::inside(const py::handle& points) const {
-  const Vec3Rows p("points", points);
+template <Scalar S>
+py::array SceneOf<S>::inside(const py::handle& points) const {
+  const Vec3Rows<S> p("points", points);
   auto inside = new_array<bool>(p.leading_shape());
   bool* out = inside.mutable_data();
   {
@@ -147,21 +155,23 @@ py::array Scene::inside(const py::handle& points) const {
   return inside;
 }
 
-py::array Scene::overlapping(const py::handle& centre, float radius) const {
+template <Scalar S>
+py::array SceneOf<S>::overlapping(const py::handle& centre, double radius) const {
   // Refused like every other array argument: TypeError for a dtype that is not real (complex
   // included, whose imaginary part a cast would drop), ValueError for the shape.
   const py::array a = as_real_array("centre", centre);
   if (a.ndim() != 1 || a.shape(0) != 3)
     throw py::value_error("centre: expected the shape (3,), got " + shape_text(a));
-  const auto c = converted<float, py::array::c_style>("centre", a);
-  const Vec3 at{c.at(0), c.at(1), c.at(2)};
+  const auto c = converted<S, py::array::c_style>("centre", a);
+  const Vec at{c.at(0), c.at(1), c.at(2)};
+  const auto reach = static_cast<S>(radius);
   std::vector<std::uint32_t> ids;
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
     auto query = [&](std::span<std::uint32_t> out) {
       return answer(
-          [&](const auto& spheres) { return sphray::overlapping(spheres, at, radius, out); });
+          [&](const auto& spheres) { return sphray::overlapping(spheres, at, reach, out); });
     };
     // Counted first, then listed: the answer's size is not known before.
     ids.resize(query({}));
@@ -196,7 +206,13 @@ std::size_t append_ids(std::vector<std::uint32_t>& ids, const Query& query) {
 // answer.
 template <class Centre>
 std::vector<std::uint32_t> spatial_order(std::size_t n, const Centre& centre) {
-  return detail::morton_order(n, centre,
+  // Morton codes are taken in float: a double centre rounded to float changes only the order
+  // (one beyond float's range counts as not finite, sorted with the NaNs), never an answer.
+  const auto in_float = [&](std::size_t i) {
+    const auto c = centre(i);
+    return Vec3{static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
+  };
+  return detail::morton_order(n, in_float,
                               [](auto begin, auto end) { tbb::parallel_sort(begin, end); });
 }
 
@@ -224,9 +240,10 @@ void scatter_lists(const std::vector<std::vector<std::uint32_t>>& lists,
 
 }  // namespace
 
-py::tuple Scene::overlaps(const py::handle& centers, const py::handle& radii) const {
-  const Vec3Rows c("centers", centers);
-  const FloatPerRow r("radii", radii, c.leading_shape());
+template <Scalar S>
+py::tuple SceneOf<S>::overlaps(const py::handle& centers, const py::handle& radii) const {
+  const Vec3Rows<S> c("centers", centers);
+  const ScalarPerRow<S> r("radii", radii, c.leading_shape());
   const std::size_t n = c.size();
   // Morton order numbers the balls in 32 bits.
   if (n > std::size_t{0xffffffff})
@@ -259,18 +276,18 @@ py::tuple Scene::overlaps(const py::handle& centers, const py::handle& radii) co
   return make_result(Result::overlaps, {offsets, ids});
 }
 
-py::array Scene::overlapping_pairs() const {
+template <Scalar S>
+py::array SceneOf<S>::overlapping_pairs() const {
   std::vector<std::uint64_t> keys;  // first << 32 | second: sorted, by first then second
   {
     py::gil_scoped_release release;
     std::shared_lock lock(mutex_);
-    std::optional<SphereBVH> own;  // a scene without a tree (accel='brute') gets one here
+    std::optional<Tree> own;  // a scene without a tree (accel='brute') gets one here
     Interruption interruption;
-    const SphereBVH& tree =
-        bvh_ ? *bvh_ : own.emplace(spheres_.view(), BvhBuildOptions{}, [&](double) {
-          interruption.check();
-          return true;
-        });
+    const Tree& tree = bvh_ ? *bvh_ : own.emplace(spheres_.view(), BvhBuildOptions{}, [&](double) {
+      interruption.check();
+      return true;
+    });
     // Shares of the tree's leaves of about kChunkRays spheres, each into a list of its own.
     const std::size_t parts = std::max<std::size_t>(1, size() / kChunkRays);
     std::vector<std::vector<IdPair>> found(parts);
@@ -297,5 +314,29 @@ py::array Scene::overlapping_pairs() const {
   }
   return pairs;
 }
+
+// The members defined here, for both precisions. Member by member: the class itself is
+// instantiated in scene.cpp, and a class may be explicitly instantiated only once.
+#define SPHRAY_SCENE_QUERIES(S)                                                                   \
+  template py::tuple SceneOf<S>::crossings(const py::handle&, const py::handle&, std::size_t,     \
+                                           const py::handle&, const py::handle&,                  \
+                                           const py::handle&, Crossings) const;                   \
+  template py::tuple SceneOf<S>::intersect_all(const py::handle&, const py::handle&, std::size_t, \
+                                               const py::handle&, const py::handle&,              \
+                                               const py::handle&) const;                          \
+  template py::tuple SceneOf<S>::intersect_nearest(const py::handle&, const py::handle&,          \
+                                                   std::size_t, const py::handle&,                \
+                                                   const py::handle&, const py::handle&) const;   \
+  template py::array SceneOf<S>::count_hits(const py::handle&, const py::handle&,                 \
+                                            const py::handle&, const py::handle&,                 \
+                                            const py::handle&) const;                             \
+  template py::tuple SceneOf<S>::nearest(const py::handle&, double) const;                        \
+  template py::array SceneOf<S>::inside(const py::handle&) const;                                 \
+  template py::array SceneOf<S>::overlapping(const py::handle&, double) const;                    \
+  template py::tuple SceneOf<S>::overlaps(const py::handle&, const py::handle&) const;            \
+  template py::array SceneOf<S>::overlapping_pairs() const;
+SPHRAY_SCENE_QUERIES(float)
+SPHRAY_SCENE_QUERIES(double)
+#undef SPHRAY_SCENE_QUERIES
 
 }  // namespace sphray::python

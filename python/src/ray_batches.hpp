@@ -55,9 +55,10 @@ void for_each_chunk(std::size_t count, const Chunk& chunk) {
 }
 
 /// The directions of a batch, checked against its origins' shape.
-inline Vec3Rows directions_like(const Vec3Rows& origins, const py::handle& directions,
-                                const std::string& name = "directions") {
-  Vec3Rows d(name.c_str(), directions);
+template <Scalar S>
+Vec3Rows<S> directions_like(const Vec3Rows<S>& origins, const py::handle& directions,
+                            const std::string& name = "directions") {
+  Vec3Rows<S> d(name.c_str(), directions);
   if (d.leading_shape() != origins.leading_shape()) {
     throw py::value_error(name + ": expected the shape of origins " + origins.shape() + ", got " +
                           d.shape());
@@ -66,22 +67,24 @@ inline Vec3Rows directions_like(const Vec3Rows& origins, const py::handle& direc
 }
 
 /// The rays of a batch as the caller gave them: origins and directions (..., 3), and tmin,
-/// tmax and mask as scalars or one per ray.
+/// tmax and mask as scalars or one per ray; rays of the scene's scalar S.
+template <Scalar S>
 struct RayBatch {
-  const Vec3Rows& origins;
-  const Vec3Rows& directions;
-  const FloatPerRow& tmin;
-  const FloatPerRow& tmax;
+  const Vec3Rows<S>& origins;
+  const Vec3Rows<S>& directions;
+  const ScalarPerRow<S>& tmin;
+  const ScalarPerRow<S>& tmax;
   const MaskPerRow& mask;
 
   std::size_t size() const { return origins.size(); }
-  Ray operator[](std::size_t i) const {
+  BasicRay<S> operator[](std::size_t i) const {
     return {origins[i], directions[i], tmin[i], tmax[i], mask[i]};
   }
 };
 
 /// A ray query's arguments, parsed and checked once: origins, directions (of the origins'
 /// shape), and tmin, tmax and mask (scalars or one per ray).
+template <Scalar S>
 struct RayArguments {
   RayArguments(const py::handle& o, const py::handle& d, const py::handle& tmin,
                const py::handle& tmax, const py::handle& mask)
@@ -91,10 +94,10 @@ struct RayArguments {
         tmax("tmax", tmax, origins.leading_shape()),
         mask(mask, origins.leading_shape()) {}
 
-  RayBatch batch() const { return {origins, directions, tmin, tmax, mask}; }
+  RayBatch<S> batch() const { return {origins, directions, tmin, tmax, mask}; }
 
-  Vec3Rows origins, directions;
-  FloatPerRow tmin, tmax;
+  Vec3Rows<S> origins, directions;
+  ScalarPerRow<S> tmin, tmax;
   MaskPerRow mask;
 };
 

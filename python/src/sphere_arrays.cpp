@@ -8,36 +8,34 @@
 namespace sphray::python {
 namespace {
 
-constexpr py::ssize_t kFloat = sizeof(float);
-
-// float32 at a float-aligned address (a view into packed records may be neither).
-bool is_float32(const py::array& a) {
-  return a.dtype().is(py::dtype::of<float>()) &&
-         reinterpret_cast<std::uintptr_t>(a.data()) % alignof(float) == 0;
-}
-
-// Columns contiguous: each of x, y, z is a run of N floats.
+// Columns contiguous: each of x, y, z is a run of N elements of S.
+template <Scalar S>
 bool columns_contiguous(const py::array& centers) {
-  return is_float32(centers) && (centers.shape(0) <= 1 || centers.strides(0) == kFloat) &&
-         centers.strides(1) % kFloat == 0;
+  constexpr auto size = static_cast<py::ssize_t>(sizeof(S));
+  return holds<S>(centers) && (centers.shape(0) <= 1 || centers.strides(0) == size) &&
+         centers.strides(1) % size == 0;
 }
 
-// a as the float32 copy the scene keeps (made only when a is not one already, so never the
+template <Scalar S>
+bool contiguous(const py::array& radii) {
+  return holds<S>(radii) &&
+         (radii.shape(0) <= 1 || radii.strides(0) == static_cast<py::ssize_t>(sizeof(S)));
+}
+
+// a as the copy of dtype S the scene keeps (made only when a is not one already, so never the
 // caller's array): read-only, so that nothing can change the spheres brute force reads
 // without the tree seeing it too.
-template <int Flags>
+template <Scalar S, int Flags>
 py::array own_copy(const char* what, const py::array& a) {
-  py::array copy = converted<float, Flags>(what, a);
+  py::array copy = converted<S, Flags>(what, a);
   if (!copy.is(a)) copy.attr("setflags")(py::arg("write") = false);
   return copy;
 }
 
 }  // namespace
 
-SphereArrays::SphereArrays(const py::handle& centers, const py::handle& radii,
-                           const py::handle& masks) {
-  py::array c = as_real_array("centers", centers);
-  py::array r = as_real_array("radii", radii);
+template <Scalar S>
+SphereArrays<S>::SphereArrays(const py::array& c, const py::array& r, const py::handle& masks) {
   if (c.ndim() != 2 || c.shape(1) != 3) {
     throw py::value_error("centers: expected shape (N, 3), got " + shape_text(c));
   }
@@ -53,18 +51,19 @@ SphereArrays::SphereArrays(const py::handle& centers, const py::handle& radii,
         "sphere's), got shape " +
         shape_text(c));
   }
-  centers_ = columns_contiguous(c) ? c : own_copy<py::array::f_style>("centers", c);
-  radii_ = is_float32(r) && (r.shape(0) <= 1 || r.strides(0) == kFloat)
-               ? r
-               : own_copy<py::array::c_style>("radii", r);
+  centers_ = columns_contiguous<S>(c) ? c : own_copy<S, py::array::f_style>("centers", c);
+  radii_ = contiguous<S>(r) ? r : own_copy<S, py::array::c_style>("radii", r);
   count_ = static_cast<std::size_t>(c.shape(0));
   const auto* base = static_cast<const char*>(centers_.data());
   const py::ssize_t column = count_ > 0 ? centers_.strides(1) : 0;
-  cx_ = reinterpret_cast<const float*>(base);
-  cy_ = reinterpret_cast<const float*>(base + column);
-  cz_ = reinterpret_cast<const float*>(base + 2 * column);
-  r_ = static_cast<const float*>(radii_.data());
+  cx_ = reinterpret_cast<const S*>(base);
+  cy_ = reinterpret_cast<const S*>(base + column);
+  cz_ = reinterpret_cast<const S*>(base + 2 * column);
+  r_ = static_cast<const S*>(radii_.data());
   if (!masks.is_none()) masks_ = uint32_values("masks", masks, {c.shape(0)}, "masks", "per sphere");
 }
+
+template class SphereArrays<float>;
+template class SphereArrays<double>;
 
 }  // namespace sphray::python

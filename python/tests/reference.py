@@ -1,8 +1,9 @@
 """An independent float64 reference for the module's queries, written from the contract in
 docs/kernel.md with numpy alone (it never calls sphray).
 
-Inputs are the float32 values the kernel sees, widened exactly to float64. The reference also
-says which rays float32 cannot decide (a near tie between two spheres, a ray grazing a
+Inputs are the float32 values the kernel sees, widened exactly to float64 (for a scene of
+precision "double", the float64 values themselves, and double's limits in place of float's).
+The reference also says which rays float32 (or double) cannot decide (a near tie between two spheres, a ray grazing a
 silhouette, a root within rounding of tmin or tmax): tests require exact agreement on every
 other ray, and that the undecidable ones are rare, so a wrong kernel cannot hide among them.
 """
@@ -15,21 +16,35 @@ FLT_MAX = float(np.finfo(np.float32).max)
 # How close two float32 answers may come before the comparison calls a ray undecidable,
 # relative to the scene's scale (the kernel's bound is 16 u (r + |c - o|), u = 2**-24).
 DECIDE = 1e-4
+# The same for a double scene: the kernel's bound is 16 u (r + |c - o|) with u = 2**-53, and
+# the reference's own float64 roots are no better, so a margin far above both.
+DECIDE_DOUBLE = 1e-9
+DBL_MIN = float(np.finfo(np.float64).tiny)
+DBL_MAX = float(np.finfo(np.float64).max)
 
 
 def f64(a):
     return np.asarray(np.asarray(a, dtype=np.float32), dtype=np.float64)
 
 
-def valid_rays(o, d, tmin, tmax):
+def as_kernel(a, precision="float"):
+    """a as the kernel of that precision reads it, in float64."""
+    return f64(a) if precision == "float" else np.asarray(a, dtype=np.float64)
+
+
+def valid_rays(o, d, tmin, tmax, precision="float"):
     a = np.einsum("ij,ij->i", d, d)
+    lo, hi = (FLT_MIN, FLT_MAX) if precision == "float" else (DBL_MIN, DBL_MAX)
     return (np.isfinite(o).all(axis=1) & np.isfinite(d).all(axis=1)
-            & (a >= FLT_MIN) & (a <= FLT_MAX)
+            & (a >= lo) & (a <= hi)
             & ~np.isnan(tmin) & ~np.isnan(tmax) & (tmin < tmax))
 
 
-def valid_spheres(c, r):
-    return np.isfinite(c).all(axis=1) & (r >= 2.0**-63) & (r < 2.0**64)
+def valid_spheres(c, r, precision="float"):
+    # r * r a normal finite number of the precision: [2**-63, 2**64) in float, [2**-511,
+    # 2**512) in double.
+    lo, hi = (2.0**-63, 2.0**64) if precision == "float" else (2.0**-511, 2.0**512)
+    return np.isfinite(c).all(axis=1) & (r >= lo) & (r < hi)
 
 
 def roots(c, r, o, d):
@@ -49,23 +64,27 @@ def roots(c, r, o, d):
         return k - h, k + h, graze, scale / np.sqrt(a)
 
 
-def intersect(centers, radii, origins, directions, tmin=0.0, tmax=np.inf):
-    """(t, ids, undecidable): the closest hits by the contract, and the rays float32 cannot
-    be held to."""
-    c, r, o, d = f64(centers), f64(radii), f64(origins), f64(directions)
+def intersect(centers, radii, origins, directions, tmin=0.0, tmax=np.inf, precision="float"):
+    """(t, ids, undecidable): the closest hits by the contract, and the rays the precision
+    ("float" or "double") cannot be held to; t float32 or float64 as the scene returns it."""
+    c, r, o, d = (as_kernel(a, precision) for a in (centers, radii, origins, directions))
     m = len(o)
-    tmin = np.broadcast_to(f64(tmin), (m,))
-    tmax = np.broadcast_to(f64(tmax), (m,))
+    tmin = np.broadcast_to(as_kernel(tmin, precision), (m,))
+    tmax = np.broadcast_to(as_kernel(tmax, precision), (m,))
+    decide = DECIDE if precision == "float" else DECIDE_DOUBLE
+    out = np.float32 if precision == "float" else np.float64
     t = tmax.copy()
     ids = np.full(m, NO_HIT, dtype=np.uint32)
     undecidable = np.zeros(m, dtype=bool)
     if len(c) == 0 or m == 0:
-        return t.astype(np.float32), ids, undecidable
+        return t.astype(out), ids, undecidable
     near, far, graze, t_scale = roots(c, r, o, d)
     lo, hi = tmin[:, None], tmax[:, None]
     with np.errstate(invalid="ignore"):
         root = np.where((lo < near) & (near < hi), near, np.where((lo < far) & (far < hi), far, np.nan))
-        ok = valid_rays(o, d, tmin, tmax)[:, None] & valid_spheres(c, r)[None, :] & ~np.isnan(root)
+        pairs = (valid_rays(o, d, tmin, tmax, precision)[:, None]
+                 & valid_spheres(c, r, precision)[None, :])
+        ok = pairs & ~np.isnan(root)
         root = np.where(ok, root, np.inf)
         best = np.argmin(root, axis=1)       # argmin takes the lower id on equal t
         t_best = root[np.arange(m), best]
@@ -76,17 +95,16 @@ def intersect(centers, radii, origins, directions, tmin=0.0, tmax=np.inf):
         # spheres give identical float32 roots, so their tie goes to the lower id exactly), a
         # ray grazing some sphere, or a root near a bound.
         rows = np.arange(m)
-        tol = DECIDE * t_scale[rows, best]
+        tol = decide * t_scale[rows, best]
         order = np.argsort(root, axis=1, kind="stable")
         runner = order[:, 1] if root.shape[1] > 1 else best
         same = (c[runner] == c[best]).all(axis=1) & (r[runner] == r[best])
         tie = hit & (root[rows, runner] - t_best <= tol) & ~same
-        pairs = valid_rays(o, d, tmin, tmax)[:, None] & valid_spheres(c, r)[None, :]
-        tols = DECIDE * t_scale
+        tols = decide * t_scale
         near_bound = ((np.abs(near - lo) <= tols) | (np.abs(far - lo) <= tols)
                       | (np.abs(near - hi) <= tols) | (np.abs(far - hi) <= tols))
-        undecidable = tie | (((graze <= DECIDE) | near_bound) & pairs).any(axis=1)
-    return t.astype(np.float32), ids, undecidable
+        undecidable = tie | (((graze <= decide) | near_bound) & pairs).any(axis=1)
+    return t.astype(out), ids, undecidable
 
 
 def occluded(centers, radii, origins, directions, tmin=0.0, tmax=np.inf):

@@ -11,9 +11,9 @@ INF = np.inf
 NAN = np.nan
 
 
-def scene_of(spheres, accel):
+def scene_of(spheres, accel, precision=None):
     spheres = np.asarray(spheres, dtype=np.float64)
-    return sphray.Scene(spheres[:, :3], spheres[:, 3], accel=accel)
+    return sphray.Scene(spheres[:, :3], spheres[:, 3], accel=accel, precision=precision)
 
 
 def one(scene, origin, direction, **bounds):
@@ -63,6 +63,12 @@ def test_from_inside_hits_the_far_side(accel):
     assert not front[0]
 
 
+# A direction whose squared length underflows each precision's normal range (float's 2**-126,
+# double's 2**-1022): invalid there. In double, float's -1e-30 is a valid ray (test_double.py).
+TINY = {"float": -1e-30, "double": -1e-160}
+
+
+@pytest.mark.parametrize("precision", ["float", "double"])
 @pytest.mark.parametrize("accel", ACCELS)
 @pytest.mark.parametrize("origin, direction, bounds", [
     ([NAN, 0, 0], [0, 0, -1], {}),
@@ -70,13 +76,15 @@ def test_from_inside_hits_the_far_side(accel):
     ([0, 0, 0], [0, NAN, -1], {}),
     ([0, 0, 0], [0, 0, -INF], {}),
     ([0, 0, 0], [0, 0, 0], {}),
-    ([0, 0, 0], [0, 0, -1e-30], {}),                         # |d|^2 underflows float
+    ([0, 0, 0], [0, 0, "tiny"], {}),                         # |d|^2 underflows: TINY
     ([0, 0, 0], [0, 0, -1], {"tmin": 3.0, "tmax": 3.0}),
     ([0, 0, 0], [0, 0, -1], {"tmin": 5.0, "tmax": 1.0}),
     ([0, 0, 0], [0, 0, -1], {"tmin": NAN}),
 ])
-def test_invalid_rays_miss(accel, origin, direction, bounds):
-    s = scene_of([[0, 0, -3, 1]], accel)
+def test_invalid_rays_miss(accel, origin, direction, bounds, precision):
+    direction = [TINY[precision] if x == "tiny" else x for x in direction]
+    s = scene_of([[0, 0, -3, 1]], accel, precision)
+    assert s.precision == precision
     t, i = one(s, origin, direction, **bounds)
     assert i == sphray.NO_HIT
     assert t == bounds.get("tmax", INF)

@@ -60,7 +60,9 @@ MEMORY_CASES = {
         "centers",
     ),
     # Every other conversion the module makes.
-    "radii": ("r = np.zeros(N)", "sphray.Scene(spheres, r)", "radii"),
+    "radii": ("r = np.zeros(N)", "sphray.Scene(spheres, r, precision='float')", "radii"),
+    # float32 centres widened for a scene that is double (its radii are float64).
+    "centers widened to float64": ("r = np.zeros(N)", "sphray.Scene(spheres, r)", "centers"),
     "sphere masks": ("m, r = np.zeros(N, np.uint8), np.zeros(N, np.float32)",
                      "sphray.Scene(spheres, r, masks=m)", "masks"),
     "tmax per ray": ("t = np.zeros(N)", "small.intersect(rays, rays, tmax=t)", "tmax"),
@@ -235,7 +237,8 @@ def test_scene_arrays_are_read_only(c_order):
     if not c_order:
         centers = np.asfortranarray(centers)                # read in place
     radii = np.ones(2, np.float64 if c_order else np.float32)
-    scene = sphray.Scene(centers, radii, accel="brute")
+    # precision="float": the float64 radii are then the scene's own float32 copy.
+    scene = sphray.Scene(centers, radii, accel="brute", precision="float")
     for array in (scene.centers, scene.radii):
         assert not array.flags.writeable
         with pytest.raises(ValueError, match="read-only"):

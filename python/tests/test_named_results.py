@@ -130,7 +130,8 @@ def test_the_documented_signature_is_the_bindings(name, function):
 
 def test_scene_init_documents_its_signature():
     signature = inspect.signature(sphray.Scene.__init__)
-    assert list(signature.parameters) == ["self", "centers", "radii", "accel", "masks"]
+    assert list(signature.parameters) == ["self", "centers", "radii", "accel", "masks",
+                                         "precision"]
     scene = sphray.Scene.__new__(sphray.Scene)
     kwargs = {p: SAMPLES.get(p, v.default) for p, v in signature.parameters.items() if p != "self"}
     sphray.Scene.__init__(scene, **kwargs)

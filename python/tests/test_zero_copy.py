@@ -42,7 +42,8 @@ def test_a_bvh_sees_writes_at_refit():
 
 def test_other_layouts_are_copied_once_into_columns():
     c_order = np.array([[0, 0, -3], [0, 0, -6]], np.float32)
-    scene = sphray.Scene(c_order, np.array([1, 1], np.float64), accel="brute")
+    # precision="float": float64 radii alone would make the scene double (test_double.py).
+    scene = sphray.Scene(c_order, np.array([1, 1], np.float64), accel="brute", precision="float")
     assert not np.shares_memory(scene.centers, c_order)
     assert scene.centers.flags.f_contiguous and scene.centers.dtype == np.float32
     np.testing.assert_array_equal(scene.centers, c_order)
