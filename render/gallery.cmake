@@ -1,11 +1,10 @@
 # Regenerates docs/images/ (every preset in every mode, and demo.png) and docs/gallery.md.
 # Run through the `gallery` target: cmake --build build/release --target gallery
-#   cmake -DSPHRAY=path/to/sphray -DPRECISION_DEMO=path/to/sphray_precision_demo
-#         -DDOCS=path/to/docs -P render/gallery.cmake
-if(NOT SPHRAY OR NOT PRECISION_DEMO OR NOT DOCS)
-  message(FATAL_ERROR "usage: cmake -DSPHRAY=<sphray binary> -DPRECISION_DEMO=<its binary> "
-                      "-DDOCS=<docs folder> -P gallery.cmake")
+#   cmake -DSPHRAY=path/to/sphray -DDOCS=path/to/docs -P render/gallery.cmake
+if(NOT SPHRAY OR NOT DOCS)
+  message(FATAL_ERROR "usage: cmake -DSPHRAY=<sphray binary> -DDOCS=<docs folder> -P gallery.cmake")
 endif()
+set(SCENES ${CMAKE_CURRENT_LIST_DIR}/scenes)
 
 set(presets single three rtiow-final random:1000)
 set(modes normals flat depth id shaded path)
@@ -98,18 +97,20 @@ string(APPEND md "| PLY point cloud | PDB molecule |\n|---|---|\n")
 string(APPEND md "| ![a trefoil knot of 60,000 points](images/knot.png) | ![C60](images/c60.png) |\n")
 
 # Double precision (docs/double.md): a scene float cannot render, traced in float and double.
-execute_process(COMMAND ${PRECISION_DEMO} -o ${DOCS}/images/precision-mm-on-km.png
-                RESULT_VARIABLE status)
-if(NOT status EQUAL 0)
-  message(FATAL_ERROR "sphray_precision_demo failed (${status})")
-endif()
+foreach(precision float double)
+  render_image(${SCENES}/mm-on-km.json normals precision-mm-on-km-${precision}.png
+               --precision ${precision} --spp 4)
+endforeach()
 string(APPEND md "\n## Double precision\n\n")
 string(APPEND md "A 1 mm sphere resting on a 10 km ground, 36 km from the origin of coordinates, seen from a\n")
-string(APPEND md "camera 6 mm beside it (docs/double.md). The same camera rays, shaded by the normal: left in\n")
-string(APPEND md "float, where the spacing of numbers at these coordinates (3e4 and 2e4) is 1/512 m, twice the sphere's radius,\n")
-string(APPEND md "so the sphere's normals come out in a few flat patches; right in double\n")
-string(APPEND md "(`render/tools/precision_demo.cpp`):\n\n")
-string(APPEND md "    build/release/render/sphray_precision_demo -o precision-mm-on-km.png\n\n")
-string(APPEND md "![a 1 mm sphere at 36 km, float left, double right](images/precision-mm-on-km.png)\n")
+string(APPEND md "camera 6 mm beside it (`render/scenes/mm-on-km.json`, docs/double.md), shaded by the normal.\n")
+string(APPEND md "Left in float, where the spacing of numbers at these coordinates (3e4 and 2e4) is 1/512 m,\n")
+string(APPEND md "twice the sphere's radius: the camera moves, and the sphere comes out in a few flat patches;\n")
+string(APPEND md "right in double:\n\n")
+string(APPEND md "    sphray render -s render/scenes/mm-on-km.json --precision float -o mm-float.png\n")
+string(APPEND md "    sphray render -s render/scenes/mm-on-km.json --precision double -o mm-double.png\n\n")
+string(APPEND md "| float | double |\n|---|---|\n")
+string(APPEND md "| ![in float](images/precision-mm-on-km-float.png) ")
+string(APPEND md "| ![in double](images/precision-mm-on-km-double.png) |\n")
 file(WRITE ${DOCS}/gallery.md "${md}")
 message(STATUS "wrote ${DOCS}/gallery.md and its images")

@@ -502,8 +502,9 @@ int run(int argc, char** argv, MPI_Comm comm) {
   // A time limit would differ between the ranks' clocks; the tree is always built. Threads
   // serve the replicated distribution (0: the node's cores shared among its ranks); split
   // ranks trace their tiles in order.
-  add_render_options(*render, render_args,
-                     {.threads = true, .time_limit = false, .accel = false, .force = true});
+  add_render_options(
+      *render, render_args,
+      {.threads = true, .time_limit = false, .accel = false, .force = true, .precision = false});
   std::string distribution_name = "auto";
   render
       ->add_option("--distribution", distribution_name,

@@ -408,6 +408,7 @@ class PlyReader {
       if (problem == nullptr) problem = detail::coordinate_problem(static_cast<float>(v), radius);
       if (problem != nullptr) refuse(problem);
       values_[p.role] = static_cast<float>(v);
+      exact_[p.role] = v;  // a double property's digits, kept for PointOptions::keep_doubles
     } else if (is_integer(p.type)) {
       if (!(v >= 0 && v <= 255)) refuse("in 0 to 255 (an integer colour)");
       values_[p.role] = static_cast<float>(v) / 255.0f;  // as the text reader: 51 is 0.2f
@@ -421,6 +422,10 @@ class PlyReader {
     if (has_[kRed]) points_.colors.push_back({values_[kRed], values_[kGreen], values_[kBlue]});
     const float radius = has_[kRadius] ? values_[kRadius] : *options_.radius;
     points_.spheres.add({values_[kX], values_[kY], values_[kZ]}, radius);
+    if (options_.keep_doubles) {
+      const double exact_radius = has_[kRadius] ? exact_[kRadius] : radius;
+      points_.doubles.add(Vec3d{exact_[kX], exact_[kY], exact_[kZ]}, exact_radius);
+    }
   }
 
   // --- The ascii body: one element a line -----------------------------------------------------
@@ -573,6 +578,7 @@ class PlyReader {
   std::size_t vertex_ = kNoVertex;
   std::array<bool, kRoles> has_{};  // the vertex element's roles
   std::array<float, kRoles> values_{};
+  std::array<double, kRadius + 1> exact_{};  // the coordinates and radius as the file has them
   std::vector<std::string_view> fields_;
   Points points_;
 };

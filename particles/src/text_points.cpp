@@ -154,6 +154,12 @@ class PointParser {
     return *value;
   }
 
+  // The same field as a double, once number() has accepted it: the digits as written.
+  double exact(Column column) const {
+    bool range = false;
+    return *detail::as_double(fields_[static_cast<std::size_t>(columns_[column])], range);
+  }
+
   void point() {
     if (fields_.size() != width_) {
       fail(std::to_string(width_) + " columns, as the first line has, got " +
@@ -168,6 +174,10 @@ class PointParser {
       points_.colors.push_back(color);
     }
     points_.spheres.add(center, radius);
+    if (options_.keep_doubles) {
+      const double exact_radius = columns_[kRadius] != kAbsent ? exact(kRadius) : radius;
+      points_.doubles.add(Vec3d{exact(kX), exact(kY), exact(kZ)}, exact_radius);
+    }
   }
 
   std::string source_;
@@ -202,6 +212,22 @@ Points read_points(const std::filesystem::path& file, const PointOptions& option
   return parser.finish();
 }
 
+namespace {
+
+// points with their floats widened as their doubles, when asked: the formats that store floats
+// (.sphp) or fewer digits than a float holds (PDB's three decimals) have nothing more to keep.
+Points with_doubles(Points points, const PointOptions& options) {
+  if (options.keep_doubles) {
+    const SphereSoA& f = points.spheres;
+    points.doubles.reserve(f.size());
+    for (std::uint32_t id = 0; id < f.size(); ++id)
+      points.doubles.add(vec3_cast<double>(f.center(id)), f.radius(id));
+  }
+  return points;
+}
+
+}  // namespace
+
 bool is_particle_file(const std::filesystem::path& path) {
   const std::string ext = lower(path.extension().string());
   return ext == ".sphp" || ext == ".xyz" || ext == ".csv" || ext == ".ply" || ext == ".pdb" ||
@@ -210,10 +236,10 @@ bool is_particle_file(const std::filesystem::path& path) {
 
 Points read_particle_file(const std::filesystem::path& path, const PointOptions& options) {
   const std::string ext = lower(path.extension().string());
-  if (SphpFile::named(path)) return {read_sphp(path), {}};
+  if (SphpFile::named(path)) return with_doubles({read_sphp(path), {}, {}}, options);
   if (ext == ".xyz" || ext == ".csv") return read_points(path, options);
   if (ext == ".ply") return read_ply(path, options);
-  if (ext == ".pdb" || ext == ".ent") return read_pdb(path);
+  if (ext == ".pdb" || ext == ".ent") return with_doubles(read_pdb(path), options);
   throw ParticleError(path.string() +
                       ": expected a particle file ending in .sphp, .xyz, .csv, .ply, .pdb or .ent");
 }

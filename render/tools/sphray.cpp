@@ -163,6 +163,12 @@ int run_render(const RenderArgs& args) {
     report(args.output + ": expected an output file ending in .png or .ppm");
     return kExitUsage;
   }
+  if (args.precision == "double" && args.mode == "path") {
+    report(
+        "--precision double: expected a mode other than path (the path tracer traces in "
+        "float; docs/double.md, \"The command\")");
+    return kExitUsage;
+  }
   try {
     Phases phases;
     progress::Reporter reporter(!args.quiet, ::isatty(STDERR_FILENO) == 1, args.time_limit);
@@ -179,7 +185,8 @@ int run_render(const RenderArgs& args) {
     options.seed = args.seed;
     options.max_depth = args.max_depth;
     options.time_limit = args.time_limit;
-    options.accel = *parse_accel(args.accel);  // CLI11 checked the name
+    options.accel = *parse_accel(args.accel);              // CLI11 checked the name
+    options.precision = *parse_precision(args.precision);  // CLI11 checked the name
     PendingImageFile output(args.output, args.force);
     require_image_memory(args, options);
     RenderStats stats;

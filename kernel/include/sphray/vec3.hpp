@@ -72,5 +72,10 @@ template <Scalar S>
 bool isfinite(BasicVec3<S> v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
+/// v in another scalar type: exact from float to double, rounded to nearest the other way.
+template <Scalar To, Scalar From>
+constexpr BasicVec3<To> vec3_cast(BasicVec3<From> v) {
+  return {static_cast<To>(v.x), static_cast<To>(v.y), static_cast<To>(v.z)};
+}
 
 }  // namespace sphray

@@ -55,19 +55,23 @@ std::optional<float> finite_float(const std::string& text) {
 }
 
 // "X,Y,Z": three finite numbers, each at most 1e17 in magnitude as a scene file's camera
-// coordinates must be (their squares must fit a float).
-std::optional<Vec3> parse_vec3(const std::string& text) {
-  float parts[3];
+// coordinates must be (their squares must fit a float). Read as doubles, as a scene file's are:
+// a scene traced in double keeps them.
+std::optional<Vec3d> parse_vec3(const std::string& text) {
+  double parts[3];
   std::size_t start = 0;
   for (int i = 0; i < 3; ++i) {
     const std::size_t comma = i < 2 ? text.find(',', start) : text.size();
     if (comma == std::string::npos) return std::nullopt;
-    const std::optional<float> value = finite_float(text.substr(start, comma - start));
-    if (!value || std::abs(*value) > 1e17f) return std::nullopt;
-    parts[i] = *value;
+    const std::string part = text.substr(start, comma - start);
+    if (part.empty() || std::isspace(static_cast<unsigned char>(part[0]))) return std::nullopt;
+    char* end = nullptr;
+    const double value = std::strtod(part.c_str(), &end);
+    if (end != part.c_str() + part.size() || !(std::abs(value) <= 1e17)) return std::nullopt;
+    parts[i] = value;
     start = comma + 1;
   }
-  return Vec3{parts[0], parts[1], parts[2]};
+  return Vec3d{parts[0], parts[1], parts[2]};
 }
 
 CLI::Validator vec3_validator() {
@@ -139,19 +143,19 @@ Material parse_material_option(std::string_view text) {
 }
 
 void add_camera_options(CLI::App& command, CameraArgs& camera) {
-  const std::pair<const char*, std::optional<Vec3>*> vectors[] = {
-      {"--lookfrom", &camera.lookfrom}, {"--lookat", &camera.lookat}, {"--vup", &camera.vup}};
-  const char* help[] = {"Where the camera is (default: the scene's)",
-                        "The point at the image centre (default: the scene's)",
-                        "Which way is up (default: the scene's)"};
-  for (std::size_t i = 0; i < 3; ++i) {
-    std::optional<Vec3>* out = vectors[i].second;
+  const auto add = [&command](const char* name, const char* help, auto on_parse) {
     command
         .add_option_function<std::string>(
-            vectors[i].first, [out](const std::string& text) { *out = parse_vec3(text); }, help[i])
+            name, [on_parse](const std::string& text) { on_parse(*parse_vec3(text)); }, help)
         ->check(vec3_validator())
         ->type_name("X,Y,Z");
-  }
+  };
+  add("--lookfrom", "Where the camera is (default: the scene's)",
+      [&camera](Vec3d v) { camera.lookfrom = v; });
+  add("--lookat", "The point at the image centre (default: the scene's)",
+      [&camera](Vec3d v) { camera.lookat = v; });
+  add("--vup", "Which way is up (default: the scene's)",
+      [&camera](Vec3d v) { camera.vup = vec3_cast<float>(v); });
   command.add_option("--vfov", camera.vfov, "Vertical field of view (default: the scene's)")
       ->check(vfov_validator())
       ->type_name("DEG");
@@ -159,27 +163,42 @@ void add_camera_options(CLI::App& command, CameraArgs& camera) {
 
 void apply_camera(const CameraArgs& camera, Scene& scene) {
   CameraSpec spec = scene.camera;
+  std::optional<SceneDoubles> doubles = scene.doubles;
   std::string given;
   auto take = [&given](const char* name, auto& part, const auto& value) {
     if (!value) return;
     part = *value;
     given += (given.empty() ? "" : ", ") + std::string(name);
   };
-  take("--lookfrom", spec.lookfrom, camera.lookfrom);
-  take("--lookat", spec.lookat, camera.lookat);
+  const auto narrowed = [](const std::optional<Vec3d>& v) {
+    return v ? std::optional(vec3_cast<float>(*v)) : std::nullopt;
+  };
+  take("--lookfrom", spec.lookfrom, narrowed(camera.lookfrom));
+  take("--lookat", spec.lookat, narrowed(camera.lookat));
   take("--vup", spec.vup, camera.vup);
   take("--vfov", spec.vfov, camera.vfov);
   if (given.empty()) return;
+  if (doubles) {
+    doubles->lookfrom = camera.lookfrom.value_or(doubles->lookfrom);
+    doubles->lookat = camera.lookat.value_or(doubles->lookat);
+  }
   try {
-    const Camera check(spec, 16, 9);
+    // The camera is checked in the precision it is traced in.
+    if (doubles) {
+      const Camerad check(spec, doubles->lookfrom, doubles->lookat, 16, 9);
+    } else {
+      const Camera check(spec, 16, 9);
+    }
   } catch (const SceneError& e) {
     throw SceneError(given + " with the camera of " + scene.name + ": " + expected_part(e));
   }
   scene.camera = spec;
+  scene.doubles = std::move(doubles);
 }
 
 SceneOptions scene_options(const RenderArgs& args) {
-  return {args.radius, args.material};
+  return {args.radius, args.material,
+          args.precision == "double" ? Precision::float64 : Precision::float32};
 }
 
 void add_render_options(CLI::App& render, RenderArgs& args, RenderArgsScope scope) {
@@ -238,6 +257,14 @@ void add_render_options(CLI::App& render, RenderArgs& args, RenderArgsScope scop
         .add_option("--accel", args.accel,
                     "Sphere queries: a BVH from 128 spheres on (auto), always, or brute force")
         ->check(CLI::IsMember(accel_names()))
+        ->capture_default_str();
+  }
+  if (scope.precision) {
+    render
+        .add_option("--precision", args.precision,
+                    "Trace the geometry in float or in double (a scene far from the origin "
+                    "or finer than float's spacing there; not path mode)")
+        ->check(CLI::IsMember(precision_names()))
         ->capture_default_str();
   }
   render.add_flag("--quiet,-q", args.quiet, "No progress bar, no summary line");

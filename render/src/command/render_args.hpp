@@ -15,7 +15,9 @@ namespace sphray::render {
 /// `--lookfrom`, `--lookat`, `--vup`, `--vfov`: each given one replaces that part of the scene's
 /// camera (preset, scene file or particle file), the others stay the scene's.
 struct CameraArgs {
-  std::optional<Vec3> lookfrom, lookat, vup;
+  // Positions as written, in double: a scene traced in double keeps them (Scene::doubles).
+  std::optional<Vec3d> lookfrom, lookat;
+  std::optional<Vec3> vup;
   std::optional<float> vfov;
 };
 
@@ -26,6 +28,7 @@ struct RenderArgs {
   CameraArgs camera;
   std::string mode = "normals";
   std::string accel = "auto";
+  std::string precision = "float";
   int width = 0, height = 0;  // 0: the scene's own size
   int spp = 4;
   int threads = 0;
@@ -44,6 +47,7 @@ struct RenderArgsScope {
   bool time_limit = true;  // --time-limit
   bool accel = true;       // --accel
   bool force = true;       // --force
+  bool precision = true;   // --precision
 };
 
 /// Registers the render options on a (sub)command, each with its check and its default shown.

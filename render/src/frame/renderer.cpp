@@ -12,6 +12,7 @@
 #include <optional>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
 
 #include "frame/scene_queries.hpp"
 #include "frame/tile_tasks.hpp"
@@ -55,42 +56,61 @@ Vec3 id_color(std::uint32_t id) {
   return {channel(0), channel(8), channel(16)};
 }
 
+// ray in float, for what only needs its direction roughly (the sky's colour).
+template <Scalar S>
+Ray as_float(const BasicRay<S>& ray) {
+  return {vec3_cast<float>(ray.origin), vec3_cast<float>(ray.dir)};
+}
+
 // Shades one ray's hit in the chosen mode: arithmetic on the hit and its surface, and in
-// shaded mode whether the hit sees the light (its shadow ray, traced by the caller).
+// shaded mode whether the hit sees the light (its shadow ray, traced by the caller). The
+// geometry is in S, the colours in float.
+template <Scalar S>
 class Shader {
  public:
-  Shader(const Scene& scene, Mode mode) : scene_(scene), view_(scene.spheres.view()), mode_(mode) {
-    // Depth: grey = D / (D + distance), D the camera's distance to what it looks at, so the
-    // point of interest is mid-grey whatever the scene's scale.
-    depth_scale_ = length(scene.camera.lookfrom - scene.camera.lookat);
-  }
+  using RayS = BasicRay<S>;
+  using HitS = BasicHit<S>;
+
+  // depth_scale: the camera's distance to what it looks at. Depth: grey = D / (D + distance),
+  // so the point of interest is mid-grey whatever the scene's scale.
+  Shader(const Scene& scene, BasicSphereView<S> view, Mode mode, float depth_scale)
+      : scene_(scene), view_(view), mode_(mode), depth_scale_(depth_scale) {}
 
   bool casts_shadows() const { return mode_ == Mode::shaded; }
 
   // Shaded mode: the ray from the hit towards the light, or none where the surface faces away
   // from it (or the ray missed).
-  std::optional<Ray> shadow_ray(const Ray& ray, const Hit& hit) const {
+  std::optional<RayS> shadow_ray(const RayS& ray, const HitS& hit) const {
     if (!hit.found()) return std::nullopt;
-    const Surface s = surface(view_, ray, hit);
-    const Vec3 normal = s.front_face ? s.normal : -s.normal;
-    if (!(dot(normal, kLight) > 0.0f)) return std::nullopt;
-    // Start the shadow ray a little off the surface, relative to the point's magnitude, so
-    // rounding cannot put it back inside the sphere it leaves.
-    const Vec3 p = s.point;
-    const float scale = std::max({1.0f, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-    return Ray{p + (1e-4f * scale) * normal, kLight};
+    const BasicSurface<S> s = surface(view_, ray, hit);
+    const BasicVec3<S> normal = s.front_face ? s.normal : -s.normal;
+    const BasicVec3<S> light = vec3_cast<S>(kLight);
+    if (!(dot(normal, light) > S(0))) return std::nullopt;
+    if constexpr (std::is_same_v<S, double>) {
+      // Double scenes are where a relative offset fails (1e-4 of 3e4 is 3 m): the kernel's
+      // spawn() leaves the surface by its error bound instead.
+      return spawn(s, light);
+    } else {
+      // Float keeps the book's relative offset (its images stay the same bit for bit): start
+      // the shadow ray a little off the surface, relative to the point's magnitude, so rounding
+      // cannot put it back inside the sphere it leaves.
+      const Vec3 p = s.point;
+      const float scale = std::max({1.0f, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+      return Ray{p + (1e-4f * scale) * normal, kLight};
+    }
   }
 
   // lit: shaded mode, whether the hit's shadow ray reached the light.
-  Vec3 shade(const Ray& ray, const Hit& hit, bool lit) const {
-    if (!hit.found()) return mode_ == Mode::depth || mode_ == Mode::id ? Vec3{0, 0, 0} : sky(ray);
+  Vec3 shade(const RayS& ray, const HitS& hit, bool lit) const {
+    if (!hit.found())
+      return mode_ == Mode::depth || mode_ == Mode::id ? Vec3{0, 0, 0} : sky(as_float(ray));
     switch (mode_) {
       case Mode::normals:
-        return 0.5f * (surface(view_, ray, hit).normal + Vec3{1, 1, 1});
+        return 0.5f * (vec3_cast<float>(surface(view_, ray, hit).normal) + Vec3{1, 1, 1});
       case Mode::flat:
         return color_of(scene_, hit.id);  // unshaded; grey without colours
       case Mode::depth: {
-        float grey = depth_scale_ / (depth_scale_ + hit.t * length(ray.dir));
+        float grey = depth_scale_ / (depth_scale_ + static_cast<float>(hit.t * length(ray.dir)));
         return {grey, grey, grey};
       }
       case Mode::id:
@@ -107,16 +127,16 @@ class Shader {
   float encode(float c) const { return mode_ == Mode::shaded ? std::sqrt(std::max(c, 0.0f)) : c; }
 
  private:
-  Vec3 diffuse(const Ray& ray, const Hit& hit, bool lit) const {
-    const Surface s = surface(view_, ray, hit);
-    const Vec3 normal = s.front_face ? s.normal : -s.normal;
+  Vec3 diffuse(const RayS& ray, const HitS& hit, bool lit) const {
+    const BasicSurface<S> s = surface(view_, ray, hit);
+    const Vec3 normal = vec3_cast<float>(s.front_face ? s.normal : -s.normal);
     const Vec3 albedo = color_of(scene_, hit.id);  // grey without colours
     const float light = lit ? dot(normal, kLight) : 0.0f;
     return (kAmbient + (1.0f - kAmbient) * light) * albedo;
   }
 
   const Scene& scene_;
-  SphereView view_;
+  BasicSphereView<S> view_;
   Mode mode_;
   float depth_scale_;
 };
@@ -133,11 +153,13 @@ TileRect tile_rect(std::size_t tile, int image_width, int image_height) {
 }
 
 // Shaded mode: the shadow rays of a batch of hits, traced as one batch; lit[i] says whether
-// hit i sees the light. Returns the number of shadow rays.
-std::uint64_t trace_shadows(const Shader& shader, const RayQueries& queries,
-                            std::span<const Ray> rays, std::span<const Hit> hits,
+// hit i sees the light. Returns the number of shadow rays. Queries: RayQueries in float,
+// SphereQueries<double> in double.
+template <Scalar S, class Queries>
+std::uint64_t trace_shadows(const Shader<S>& shader, const Queries& queries,
+                            std::span<const BasicRay<S>> rays, std::span<const BasicHit<S>> hits,
                             std::span<bool> lit) {
-  std::array<Ray, kTilePixels> shadows;
+  std::array<BasicRay<S>, kTilePixels> shadows;
   std::array<std::uint16_t, kTilePixels> owner;  // the hit each shadow ray starts from
   std::array<bool, kTilePixels> blocked;
   std::size_t m = 0;
@@ -149,7 +171,7 @@ std::uint64_t trace_shadows(const Shader& shader, const RayQueries& queries,
       ++m;
     }
   }
-  queries.occluded(std::span(shadows.data(), m), std::span(blocked.data(), m));
+  queries.occluded(std::span<const BasicRay<S>>(shadows.data(), m), std::span(blocked.data(), m));
   for (std::size_t k = 0; k < m; ++k)
     lit[owner[k]] = !blocked[k];
   return m;
@@ -158,10 +180,11 @@ std::uint64_t trace_shadows(const Shader& shader, const RayQueries& queries,
 // Renders one tile into image: per sample, the tile's camera rays go to the kernel as one
 // stream (in shaded mode, then their shadow rays as another), then each hit is shaded and
 // summed. Fixed-size buffers on the stack: no allocation.
-std::uint64_t render_tile(const TileRect& r, const Camera& camera, const RayQueries& queries,
-                          const Shader& shader, const RenderOptions& options, Image& image) {
-  std::array<Ray, kTilePixels> rays;
-  std::array<Hit, kTilePixels> hits;
+template <Scalar S, class Queries>
+std::uint64_t render_tile(const TileRect& r, const BasicCamera<S>& camera, const Queries& queries,
+                          const Shader<S>& shader, const RenderOptions& options, Image& image) {
+  std::array<BasicRay<S>, kTilePixels> rays;
+  std::array<BasicHit<S>, kTilePixels> hits;
   std::array<Vec3, kTilePixels> sum{};
   std::array<bool, kTilePixels> lit{};
   std::size_t n = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
@@ -176,10 +199,11 @@ std::uint64_t render_tile(const TileRect& r, const Camera& camera, const RayQuer
       auto [jx, jy] = jitter(pixel, options.spp, s, options.seed);
       rays[i] = camera.ray(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
     }
-    queries.intersect(std::span(rays.data(), n), std::span(hits.data(), n));
+    queries.intersect(std::span<const BasicRay<S>>(rays.data(), n), std::span(hits.data(), n));
     if (shader.casts_shadows()) {
-      shadow_rays += trace_shadows(shader, queries, std::span(rays.data(), n),
-                                   std::span(hits.data(), n), std::span(lit.data(), n));
+      shadow_rays +=
+          trace_shadows<S>(shader, queries, std::span<const BasicRay<S>>(rays.data(), n),
+                           std::span<const BasicHit<S>>(hits.data(), n), std::span(lit.data(), n));
     }
     for (std::size_t i = 0; i < n; ++i)
       sum[i] += shader.shade(rays[i], hits[i], lit[i]);
@@ -197,6 +221,88 @@ std::uint64_t render_tile(const TileRect& r, const Camera& camera, const RayQuer
     out[2] = to_byte(shader.encode(c.z));
   }
   return shadow_rays;
+}
+
+// The tiles of one image, in parallel (or in order for collective queries), with progress and
+// stats: the frame of every mode but path, in either precision.
+template <Scalar S, class Queries>
+Image trace_frame(const BasicCamera<S>& camera, const Queries& queries, const Shader<S>& shader,
+                  bool collective, const RenderOptions& options, const Progress& progress,
+                  RenderStats* stats) {
+  Image image{options.width, options.height,
+              std::vector<std::uint8_t>(3 * static_cast<std::size_t>(options.width) *
+                                        static_cast<std::size_t>(options.height))};
+  std::size_t tiles_across = (static_cast<std::size_t>(options.width) + kTileSize - 1) / kTileSize;
+  std::size_t tiles_down = (static_cast<std::size_t>(options.height) + kTileSize - 1) / kTileSize;
+  std::size_t tiles = options.share.size(tiles_across * tiles_down);
+  std::atomic<std::size_t> done{0};
+  std::atomic<std::uint64_t> shadow_rays{0};
+  std::atomic<std::uint64_t> camera_rays{0};
+  auto render_tiles = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k != end; ++k) {
+      TileRect rect = tile_rect(options.share.tile(k), options.width, options.height);
+      shadow_rays += render_tile(rect, camera, queries, shader, options, image);
+      std::size_t finished = ++done;
+      camera_rays += static_cast<std::uint64_t>(rect.width) *
+                     static_cast<std::uint64_t>(rect.height) *
+                     static_cast<std::uint64_t>(options.spp);
+      if (progress) progress(finished, tiles, {camera_rays, 0, shadow_rays});
+    }
+  };
+
+  if (progress) progress(0, tiles, {});  // the tracing starts: any tree is built by now
+  auto start = std::chrono::steady_clock::now();
+  if (collective) {
+    render_tiles(0, tiles);  // every process the same calls in the same order
+  } else {
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    trace_tiles_in(arena, tiles, render_tiles);
+  }
+  auto seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  if (stats != nullptr) {
+    stats->seconds = seconds;
+    stats->build_seconds = 0.0;
+    stats->bvh = false;
+    stats->camera_rays = camera_rays;
+    stats->shadow_rays = shadow_rays;
+    stats->spp = options.spp;
+  }
+  return image;
+}
+
+// The camera's distance to what it looks at, depth mode's scale.
+template <Scalar S>
+float depth_scale(BasicVec3<S> lookfrom, BasicVec3<S> lookat) {
+  return static_cast<float>(length(lookfrom - lookat));
+}
+
+// The frame in double (Precision::float64): the scene's doubles (or its floats widened),
+// their own tree or brute force, a camera in double.
+Image render_in_double(const Scene& scene, const RenderOptions& options, const Progress& progress,
+                       RenderStats* stats) {
+  if (options.mode == Mode::path) {
+    throw std::invalid_argument(
+        "precision double: expected one of the modes normals, flat, depth, id, shaded (path "
+        "mode traces in float)");
+  }
+  std::optional<SceneDoubles> widened;
+  if (!scene.doubles) widened = doubles_of(scene);
+  const SceneDoubles& doubles = scene.doubles ? *scene.doubles : *widened;
+  const Camerad camera(scene.camera, doubles.lookfrom, doubles.lookat, options.width,
+                       options.height);
+  auto build_start = std::chrono::steady_clock::now();
+  const SphereQueries<double> queries(doubles.spheres.view(), options.accel, options.threads);
+  auto build_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - build_start).count();
+  const Shader<double> shader(scene, doubles.spheres.view(), options.mode,
+                              depth_scale(doubles.lookfrom, doubles.lookat));
+  Image image = trace_frame(camera, queries, shader, false, options, progress, stats);
+  if (stats != nullptr) {
+    stats->build_seconds = queries.uses_bvh() ? build_seconds : 0.0;
+    stats->bvh = queries.uses_bvh();
+  }
+  return image;
 }
 
 void check_options(const RenderOptions& o) {
@@ -259,6 +365,8 @@ std::uint8_t to_byte(float c) {
 Image render(const Scene& scene, const RenderOptions& options, const Progress& progress,
              RenderStats* stats) {
   check_options(options);
+  if (options.precision == Precision::float64)
+    return render_in_double(scene, options, progress, stats);
   if (options.mode == Mode::path) return render_path(scene, options, progress, stats);
   auto build_start = std::chrono::steady_clock::now();
   SceneQueries queries(scene.spheres, options.accel, options.threads);
@@ -275,49 +383,15 @@ Image render(const Scene& scene, const RenderOptions& options, const Progress& p
 Image render(const Scene& scene, const RayQueries& queries, const RenderOptions& options,
              const Progress& progress, RenderStats* stats) {
   check_options(options);
+  if (options.precision != Precision::float32) {
+    throw std::invalid_argument(
+        "precision: expected float with the caller's queries (they answer float rays)");
+  }
   if (options.mode == Mode::path) return render_path(scene, queries, options, progress, stats);
-  Camera camera(scene.camera, options.width, options.height);
-  Shader shader(scene, options.mode);
-  Image image{options.width, options.height,
-              std::vector<std::uint8_t>(3 * static_cast<std::size_t>(options.width) *
-                                        static_cast<std::size_t>(options.height))};
-  std::size_t tiles_across = (static_cast<std::size_t>(options.width) + kTileSize - 1) / kTileSize;
-  std::size_t tiles_down = (static_cast<std::size_t>(options.height) + kTileSize - 1) / kTileSize;
-  std::size_t tiles = options.share.size(tiles_across * tiles_down);
-  std::atomic<std::size_t> done{0};
-  std::atomic<std::uint64_t> shadow_rays{0};
-  std::atomic<std::uint64_t> camera_rays{0};
-  auto render_tiles = [&](std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k != end; ++k) {
-      TileRect rect = tile_rect(options.share.tile(k), options.width, options.height);
-      shadow_rays += render_tile(rect, camera, queries, shader, options, image);
-      std::size_t finished = ++done;
-      camera_rays += static_cast<std::uint64_t>(rect.width) *
-                     static_cast<std::uint64_t>(rect.height) *
-                     static_cast<std::uint64_t>(options.spp);
-      if (progress) progress(finished, tiles, {camera_rays, 0, shadow_rays});
-    }
-  };
-
-  if (progress) progress(0, tiles, {});  // the tracing starts: any tree is built by now
-  auto start = std::chrono::steady_clock::now();
-  if (queries.collective()) {
-    render_tiles(0, tiles);  // every process the same calls in the same order
-  } else {
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-    trace_tiles_in(arena, tiles, render_tiles);
-  }
-  auto seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-  if (stats != nullptr) {
-    stats->seconds = seconds;
-    stats->build_seconds = 0.0;
-    stats->bvh = false;
-    stats->camera_rays = camera_rays;
-    stats->shadow_rays = shadow_rays;
-    stats->spp = options.spp;
-  }
-  return image;
+  const Camera camera(scene.camera, options.width, options.height);
+  const Shader<float> shader(scene, scene.spheres.view(), options.mode,
+                             depth_scale(scene.camera.lookfrom, scene.camera.lookat));
+  return trace_frame(camera, queries, shader, queries.collective(), options, progress, stats);
 }
 
 }  // namespace sphray::render

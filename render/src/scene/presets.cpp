@@ -168,6 +168,40 @@ Scene make_preset(std::string_view name) {
                    ": expected a preset (single, three, rtiow-final, random:N) or a .json file");
 }
 
+std::vector<std::string> precision_names() {
+  return {"float", "double"};
+}
+
+std::optional<Precision> parse_precision(std::string_view name) {
+  if (name == "float") return Precision::float32;
+  if (name == "double") return Precision::float64;
+  return std::nullopt;
+}
+
+SceneDoubles doubles_of(const Scene& scene) {
+  if (scene.doubles) return *scene.doubles;
+  SceneDoubles doubles{
+      {}, vec3_cast<double>(scene.camera.lookfrom), vec3_cast<double>(scene.camera.lookat)};
+  const SphereSoA& spheres = scene.spheres;
+  doubles.spheres.reserve(spheres.size());
+  for (std::uint32_t id = 0; id < spheres.size(); ++id) {
+    doubles.spheres.add(vec3_cast<double>(spheres.center(id)), spheres.radius(id),
+                        spheres.mask(id));
+  }
+  return doubles;
+}
+
+namespace {
+
+// A preset in the precision asked for: its floats, widened when double is asked.
+Scene preset_in(std::string_view name, Precision precision) {
+  Scene scene = make_preset(name);
+  if (precision == Precision::float64) scene.doubles = doubles_of(scene);
+  return scene;
+}
+
+}  // namespace
+
 Scene load_scene_or_preset(std::string_view name_or_file, const SceneOptions& options) {
   bool is_preset_name = name_or_file == "single" || name_or_file == "three" ||
                         name_or_file == "rtiow-final" || name_or_file.starts_with("random:");
@@ -178,8 +212,8 @@ Scene load_scene_or_preset(std::string_view name_or_file, const SceneOptions& op
   if (options.material && !particle_file)
     throw SceneError("--material applies to particle files (.xyz, .csv, .sphp), not to " +
                      std::string(name_or_file));
-  if (is_preset_name) return make_preset(name_or_file);
-  if (name_or_file == "-") return load_scene(file);  // standard input
+  if (is_preset_name) return preset_in(name_or_file, options.precision);
+  if (name_or_file == "-") return load_scene(file, options.precision);  // standard input
   if (particle_file) return load_particle_scene(file, options);
   // The non-throwing exists(): a name too long, a symbolic link loop or a folder that cannot
   // be searched is an error of the file, which load_scene reports, not a missing file.
@@ -187,7 +221,7 @@ Scene load_scene_or_preset(std::string_view name_or_file, const SceneOptions& op
   if (file.extension() != ".json" && !std::filesystem::exists(file, error) && !error) {
     return make_preset(name_or_file);  // neither a preset nor a file: the preset message
   }
-  return load_scene(file);
+  return load_scene(file, options.precision);
 }
 
 }  // namespace sphray::render

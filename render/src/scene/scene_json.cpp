@@ -71,6 +71,11 @@ Vec3 vec3_at(const json& value, const std::string& pointer, const std::string& w
   return v;
 }
 
+// A number vec3_at has accepted, as the double the file writes (Precision::float64).
+Vec3d vec3_exact(const json& value) {
+  return {value[0].get<double>(), value[1].get<double>(), value[2].get<double>()};
+}
+
 const json& object_at(const json& value, const std::string& pointer, const std::string& what,
                       std::initializer_list<std::string_view> allowed_keys) {
   if (!value.is_object()) fail(pointer, what + " to be an object, got " + type_of(value));
@@ -110,7 +115,8 @@ Vec3 camera_vec3_at(const json& value, const std::string& pointer, const std::st
   return v;
 }
 
-CameraSpec camera_at(const json& value) {
+// In float, the camera must be placeable in float; in double, camera_doubles checks it.
+CameraSpec camera_at(const json& value, Precision precision) {
   const json& camera =
       object_at(value, "/camera", "\"camera\"",
                 {"lookfrom", "lookat", "vup", "vfov", "defocus_angle", "focus_dist"});
@@ -127,7 +133,9 @@ CameraSpec camera_at(const json& value) {
   if (camera.contains("focus_dist"))
     spec.focus_dist = number_at(camera["focus_dist"], "/camera/focus_dist", "\"focus_dist\"");
   try {
-    Camera check(spec, 16, 9);
+    if (precision == Precision::float32) {
+      const Camera check(spec, 16, 9);
+    }
   } catch (const SceneError& e) {
     std::string message = e.what();
     fail("/camera", message.substr(message.find("expected ") + 9));
@@ -237,6 +245,8 @@ void add_sphere_at(Scene& scene, const json& value, const std::string& pointer) 
     if (!sphere.contains("color")) color = material.albedo;  // the other modes show the albedo
   }
   scene.spheres.add(center, radius);
+  if (scene.doubles)
+    scene.doubles->spheres.add(vec3_exact(sphere["center"]), sphere["radius"].get<double>());
   scene.colors.push_back(color);
   scene.materials.push_back(material);
 }
@@ -250,7 +260,24 @@ void size_at(Scene& scene, const json& root) {
   if (has_height && !has_width) scene.width = std::min(kMaxImageSide, scene.height * 16 / 9);
 }
 
-Scene scene_from(const json& root, const std::string& source) {
+// The camera's position and target as written, checked as a camera in double: a camera a few
+// millimetres from what it looks at, kilometres from the origin, may round to one point in float.
+SceneDoubles camera_doubles(const json& root, const CameraSpec& spec) {
+  SceneDoubles doubles{{}, vec3_cast<double>(spec.lookfrom), vec3_cast<double>(spec.lookat)};
+  if (!root.contains("camera")) return doubles;
+  const json& camera = root["camera"];
+  if (camera.contains("lookfrom")) doubles.lookfrom = vec3_exact(camera["lookfrom"]);
+  if (camera.contains("lookat")) doubles.lookat = vec3_exact(camera["lookat"]);
+  try {
+    Camerad check(spec, doubles.lookfrom, doubles.lookat, 16, 9);
+  } catch (const SceneError& e) {
+    std::string message = e.what();
+    fail("/camera", message.substr(message.find("expected ") + 9));
+  }
+  return doubles;
+}
+
+Scene scene_from(const json& root, const std::string& source, Precision precision) {
   object_at(root, "", "the scene", {"name", "camera", "spheres", "width", "height", "sky"});
   Scene scene;
   scene.name = source;
@@ -258,13 +285,15 @@ Scene scene_from(const json& root, const std::string& source) {
     if (!root["name"].is_string()) fail("/name", "\"name\" to be a string");
     scene.name = root["name"].get<std::string>();
   }
-  if (root.contains("camera")) scene.camera = camera_at(root["camera"]);
+  if (root.contains("camera")) scene.camera = camera_at(root["camera"], precision);
+  if (precision == Precision::float64) scene.doubles = camera_doubles(root, scene.camera);
   if (root.contains("sky")) scene.sky = sky_at(root["sky"]);
   size_at(scene, root);
   if (!root.contains("spheres")) fail("", "the scene to have a \"spheres\" array");
   const json& spheres = root["spheres"];
   if (!spheres.is_array()) fail("/spheres", "\"spheres\" to be an array, got " + type_of(spheres));
   scene.spheres.reserve(spheres.size());
+  if (scene.doubles) scene.doubles->spheres.reserve(spheres.size());
   scene.colors.reserve(spheres.size());
   for (std::size_t i = 0; i < spheres.size(); ++i) {
     add_sphere_at(scene, spheres[i], "/spheres/" + std::to_string(i));
@@ -330,10 +359,10 @@ json parse_checked(std::string_view text, const std::string& source, const std::
 
 }  // namespace
 
-Scene parse_scene(std::string_view text, const std::string& source) {
+Scene parse_scene(std::string_view text, const std::string& source, Precision precision) {
   const json root = parse_checked(text, source, "a JSON scene");
   try {
-    return scene_from(root, source);
+    return scene_from(root, source, precision);
   } catch (const Invalid& invalid) {
     throw SceneError(source + ":" + locate(text, invalid) + ": expected " + invalid.expected);
   }
@@ -350,10 +379,10 @@ MaterialEntry parse_material(std::string_view text, const std::string& source) {
   }
 }
 
-Scene load_scene(const std::filesystem::path& file) {
+Scene load_scene(const std::filesystem::path& file, Precision precision) {
   if (file == kStandardInputName)
-    return parse_scene(read_scene_stdin(), std::string(kStandardInputSource));
-  return parse_scene(read_scene_file(file), file.string());
+    return parse_scene(read_scene_stdin(), std::string(kStandardInputSource), precision);
+  return parse_scene(read_scene_file(file), file.string(), precision);
 }
 
 }  // namespace sphray::render

@@ -13,7 +13,8 @@ namespace sphray::render {
 Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions& options) {
   particles::Points points;
   try {
-    points = particles::read_particle_file(file, {options.radius});
+    points = particles::read_particle_file(
+        file, {options.radius, options.precision == Precision::float64});
   } catch (const particles::ParticleError& e) {
     throw SceneError(e.what());
   }
@@ -37,6 +38,11 @@ Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions&
   const double dx = double{hi.x} - lo.x, dy = double{hi.y} - lo.y, dz = double{hi.z} - lo.z;
   const auto bound = static_cast<float>(0.5 * std::sqrt(dx * dx + dy * dy + dz * dz));
   scene.camera = framing((lo + hi) * 0.5f, bound);
+  if (options.precision == Precision::float64) {
+    scene.doubles =
+        SceneDoubles{std::move(points.doubles), vec3_cast<double>(scene.camera.lookfrom),
+                     vec3_cast<double>(scene.camera.lookat)};
+  }
   return scene;
 }
 

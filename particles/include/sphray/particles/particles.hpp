@@ -114,12 +114,19 @@ struct PointOptions {
   /// The radius of every particle of a file without a radius column (ignored for a file that
   /// has one). Positive, at most 1e17.
   std::optional<float> radius;
+  /// Also keep every coordinate and radius as the file writes it, in double (Points::doubles):
+  /// for a scene traced in double (`sphray render --precision double`). Text and PLY files
+  /// are read again as doubles; a .sphp file holds floats, and PDB files are widened.
+  bool keep_doubles = false;
 };
 
 /// Particles and, when the file has colour columns, one colour per particle in [0, 1].
 struct Points {
   SphereSoA spheres;
   std::vector<Vec3> colors;  // empty when the file has none
+  /// With PointOptions::keep_doubles: the same spheres as the file writes them, in double
+  /// (spheres holds them rounded to float). Empty otherwise.
+  SphereSoAd doubles;
 };
 
 /// The longest line a text file may have, in bytes (a line of seven floats needs about 120).

@@ -58,6 +58,9 @@ struct RenderOptions {
   // Only these tiles are rendered, the other pixels left 0 (black): the shares of processes
   // that each hold the whole scene add up to the image, byte for byte (sphray-mpi).
   TileShare share;
+  // What the geometry is traced in: float64 takes the scene's doubles (Scene::doubles, or its
+  // floats widened), for every mode but path (docs/double.md, "The command").
+  Precision precision = Precision::float32;
 };
 
 /// 8-bit RGB, rows top to bottom, no padding.

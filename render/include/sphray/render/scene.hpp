@@ -32,6 +32,22 @@ struct CameraSpec {
   float focus_dist = 10.0f;  // from lookfrom to the plane in focus, along the view direction
 };
 
+/// The precision a scene is traced in (`sphray render --precision`).
+enum class Precision { float32, float64 };
+
+/// "float", "double", in that order.
+std::vector<std::string> precision_names();
+std::optional<Precision> parse_precision(std::string_view name);
+
+/// A scene's geometry in double, for Precision::float64 (docs/double.md, "The command"): its
+/// spheres and its camera's position and target as written. A scene file's numbers and a text
+/// or PLY particle file's fields are read again as doubles; what a preset or a binary file
+/// holds as floats is widened, exactly.
+struct SceneDoubles {
+  SphereSoAd spheres;
+  Vec3d lookfrom, lookat;
+};
+
 struct Scene {
   std::string name;
   SphereSoA spheres;
@@ -47,7 +63,13 @@ struct Scene {
   Sky sky;  // what lights path mode
   CameraSpec camera;
   int width = 400, height = 225;  // default image size
+  /// Loaded with Precision::float64: the same geometry in double (spheres and camera above
+  /// hold it rounded to float). Empty otherwise.
+  std::optional<SceneDoubles> doubles;
 };
+
+/// scene.doubles, or, for a scene loaded in float, its spheres and camera widened to double.
+SceneDoubles doubles_of(const Scene& scene);
 
 /// The grey of a sphere without a colour (scene files' default).
 inline constexpr Vec3 kDefaultColor{0.5f, 0.5f, 0.5f};
@@ -90,9 +112,11 @@ Scene make_preset(std::string_view name);
 /// A scene read from a JSON file (format in docs/scenes.md), or from standard input if file is
 /// "-" (name a file called "-" as "./-"). A file may hold at most 64 MiB; a FIFO that gives no
 /// byte within 5 s is refused. Throws SceneError.
-Scene load_scene(const std::filesystem::path& file);
+/// Precision::float64 also keeps its numbers in double (Scene::doubles).
+Scene load_scene(const std::filesystem::path& file, Precision precision = Precision::float32);
 /// A scene parsed from JSON text; source names it in messages. Throws SceneError.
-Scene parse_scene(std::string_view json_text, const std::string& source);
+Scene parse_scene(std::string_view json_text, const std::string& source,
+                  Precision precision = Precision::float32);
 /// A sphere's "material" as scene files write it (docs/scenes.md), parsed from JSON text with
 /// the same checks; source names it in messages. albedo_given: whether the material fixes its
 /// albedo (an "albedo" key, or a dielectric); otherwise the sphere's colour is its albedo
@@ -109,6 +133,8 @@ struct SceneOptions {
   /// Every particle's material (`--material`), its albedo the particle's colour; Lambertian
   /// without. Only for particle files: load_scene_or_preset refuses it for other scenes.
   std::optional<Material> material;
+  /// Precision::float64 also keeps the geometry in double (Scene::doubles).
+  Precision precision = Precision::float32;
 };
 /// A preset if name_or_file names one (or starts with "random:"), a particle file if its
 /// extension is .sphp, .xyz, .csv or .ply (load_particle_scene), else a JSON file ("-":
