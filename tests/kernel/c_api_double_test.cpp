@@ -86,6 +86,25 @@ void expect_agreement(const CScene& scene, const SphereViewd& v, const std::vect
             SPHRAY_OK);
   std::vector<std::size_t> totals(n);
   ASSERT_EQ(sphray_count_hits_d(scene.get(), c_rays.data(), n, totals.data(), &args), SPHRAY_OK);
+  // The same rays as one array per quantity.
+  std::vector<double> columns[8];
+  for (std::vector<double>& column : columns)
+    column.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const sphray_ray_d& r = c_rays[i];
+    const double values[8] = {r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, r.tmin, r.tmax};
+    for (std::size_t k = 0; k < 8; ++k)
+      columns[k][i] = values[k];
+  }
+  const sphray_ray_arrays_d arrays{columns[0].data(), columns[1].data(), columns[2].data(),
+                                   columns[3].data(), columns[4].data(), columns[5].data(),
+                                   columns[6].data(), columns[7].data()};
+  std::vector<double> array_t(n);
+  std::vector<std::uint32_t> array_id(n);
+  ASSERT_EQ(
+      sphray_intersect_arrays_d(scene.get(), &arrays, n, array_t.data(), array_id.data(), &args),
+      SPHRAY_OK)
+      << sphray_last_error();
   std::vector<sphray_hit_surface_d> surfaces(n);
   ASSERT_EQ(sphray_surface_d(scene.get(), c_rays.data(), hits.data(), n, surfaces.data()),
             SPHRAY_OK);
@@ -103,6 +122,8 @@ void expect_agreement(const CScene& scene, const SphereViewd& v, const std::vect
     const Hitd want = scalar::intersect(v, ray);
     found += want.found() ? 1 : 0;
     ASSERT_TRUE(same(hits[i], want)) << what << ", ray " << i << ": want " << describe(want);
+    ASSERT_TRUE(same(sphray_hit_d{array_t[i], array_id[i]}, want))
+        << what << ", arrays, ray " << i << ": want " << describe(want);
     ASSERT_EQ(blocked[i] != 0, scalar::occluded(v, ray)) << what << ", ray " << i;
     std::vector<Hitd> slots(kSlots);
     bool flags[kSlots];
@@ -315,6 +336,10 @@ TEST(CApiPrecision, ScenesRefuseTheOtherPrecisionsCalls) {
   float t;
   const float point[3] = {0, 0, 0};
   const sphray_ray_arrays arrays{point, point, point, point, point, point, nullptr, nullptr};
+  const double dpoint3[3] = {0, 0, 0};
+  const sphray_ray_arrays_d darrays{dpoint3, dpoint3, dpoint3, dpoint3,
+                                    dpoint3, dpoint3, nullptr, nullptr};
+  double dt;
   sphray_nearest_sphere nearest;
   const double dpoint[3] = {0, 0, 0};
   sphray_nearest_sphere_d dnearest;
@@ -328,6 +353,8 @@ TEST(CApiPrecision, ScenesRefuseTheOtherPrecisionsCalls) {
     refused(sphray_occluded(d, &fray, count, &flag, nullptr), "sphray_occluded");
     refused(sphray_intersect_arrays(d, &arrays, count, &t, &id, nullptr),
             "sphray_intersect_arrays");
+    refused(sphray_intersect_arrays_d(f, &darrays, count, &dt, &id, nullptr),
+            "sphray_intersect_arrays_d");
     refused(sphray_surface(d, &fray, &fhit, count, &fs), "sphray_surface");
     refused(sphray_intersect_all(d, &fray, count, 1, &fhit, nullptr, &n, nullptr),
             "sphray_intersect_all");

@@ -141,6 +141,7 @@ SPHRAY_API void occluded(const SphereBVH& bvh, std::span<const Ray> rays, std::s
 SPHRAY_API Hitd intersect(const SphereBVHd& bvh, const Rayd& ray);
 SPHRAY_API bool occluded(const SphereBVHd& bvh, const Rayd& ray);
 SPHRAY_API void intersect(const SphereBVHd& bvh, std::span<const Rayd> rays, std::span<Hitd> hits);
+SPHRAY_API void intersect(const SphereBVHd& bvh, const RayArraysd& rays, const HitArraysd& hits);
 SPHRAY_API void occluded(const SphereBVHd& bvh, std::span<const Rayd> rays,
                          std::span<bool> blocked);
 

@@ -81,10 +81,15 @@ SPHRAY_API void offset_origins(const SurfaceArrays& surfaces, const VectorArrays
 SPHRAY_API Hitd intersect(SphereViewd spheres, const Rayd& ray);
 SPHRAY_API bool occluded(SphereViewd spheres, const Rayd& ray);
 SPHRAY_API void intersect(SphereViewd spheres, std::span<const Rayd> rays, std::span<Hitd> hits);
+SPHRAY_API void intersect(SphereViewd spheres, const RayArraysd& rays, const HitArraysd& hits);
 SPHRAY_API void occluded(SphereViewd spheres, std::span<const Rayd> rays, std::span<bool> blocked);
 SPHRAY_API Surfaced surface(SphereViewd spheres, const Rayd& ray, const Hitd& hit);
 SPHRAY_API Rayd spawn(const Surfaced& surface, Vec3d dir);
 SPHRAY_API Vec3d offset_origin(const Surfaced& surface, Vec3d dir);
+SPHRAY_API void surfaces(SphereViewd spheres, const RayArraysd& rays, const HitArraysd& hits,
+                         const SurfaceArraysd& out);
+SPHRAY_API void offset_origins(const SurfaceArraysd& surfaces, const VectorArraysd& dirs,
+                               const VectorOutArraysd& origins);
 
 /// The reference implementation: the same contract in plain C++, one sphere at a time.
 namespace scalar {

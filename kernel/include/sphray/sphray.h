@@ -308,7 +308,7 @@ SPHRAY_API int sphray_overlapping(const sphray_scene* scene, const float* centre
  * with the C++ API's double kernel and its bits (no conversion anywhere); a float query on it,
  * or a _d query on a float scene, fails with SPHRAY_ERROR_PRECISION. sphray_scene_isa,
  * sphray_scene_set_masks, sphray_scene_size and sphray_scene_release take scenes of either
- * precision. sphray_intersect_arrays is float only, for now. */
+ * precision. */
 #define SPHRAY_PRECISION_FLOAT 0
 #define SPHRAY_PRECISION_DOUBLE 1
 
@@ -346,11 +346,21 @@ SPHRAY_API int sphray_scene_refit_d(sphray_scene* scene, const double* cx, const
                                     const double* cz, const double* r, size_t count,
                                     size_t stride_bytes);
 
+/* sphray_ray_arrays in double. */
+typedef struct sphray_ray_arrays_d {
+  const double *ox, *oy, *oz;
+  const double *dx, *dy, *dz;
+  const double *tmin, *tmax;
+} sphray_ray_arrays_d;
+
 /* The queries above, on a double scene, with the same arguments in double. */
 SPHRAY_API int sphray_intersect_d(const sphray_scene* scene, const sphray_ray_d* rays, size_t count,
                                   sphray_hit_d* hits, const sphray_query_args* args);
 SPHRAY_API int sphray_occluded_d(const sphray_scene* scene, const sphray_ray_d* rays, size_t count,
                                  unsigned char* occluded, const sphray_query_args* args);
+SPHRAY_API int sphray_intersect_arrays_d(const sphray_scene* scene, const sphray_ray_arrays_d* rays,
+                                         size_t count, double* t, uint32_t* id,
+                                         const sphray_query_args* args);
 SPHRAY_API int sphray_surface_d(const sphray_scene* scene, const sphray_ray_d* rays,
                                 const sphray_hit_d* hits, size_t count,
                                 sphray_hit_surface_d* surfaces);

@@ -197,6 +197,13 @@ void intersect(const SphereBVHd& bvh, std::span<const Rayd> rays, std::span<Hitd
   tree_intersect(bvh, rays, hits);
 }
 
+void intersect(const SphereBVHd& bvh, const RayArraysd& rays, const HitArraysd& hits) {
+  detail::check_arrays(rays, hits);
+  detail::intersect_in_chunks(rays, hits, [&](std::span<const Rayd> in, std::span<Hitd> out) {
+    tree_intersect(bvh, in, out);
+  });
+}
+
 void occluded(const SphereBVHd& bvh, std::span<const Rayd> rays, std::span<bool> blocked) {
   tree_occluded(bvh, rays, blocked);
 }

@@ -1,5 +1,5 @@
 // sphray_intersect, sphray_occluded, sphray_intersect_arrays, sphray_surface, sphray_spawn, and
-// the _d forms of all but the arrays': each converts between the C structs and sphray::Ray /
+// their _d forms: each converts between the C structs and sphray::Ray /
 // Hit / Surface in their precision (or hands the arrays over as RayArrays / HitArrays) and calls
 // the C++ API, on the threads its sphray_query_args ask for.
 #include <algorithm>
@@ -105,12 +105,36 @@ int spawned_rays(const CSurface<S>* surfaces, const S* dirs, std::size_t count, 
   });
 }
 
-// The arrays' rays [begin, end) as RayArrays, with their masks (null: every bit).
-sphray::RayArrays ray_range(const sphray_ray_arrays& rays, const std::uint32_t* masks,
-                            std::size_t begin, std::size_t end) {
+// The arrays' rays [begin, end) as RayArrays in precision S, with their masks (null: every
+// bit). CArrays: sphray_ray_arrays (float) or sphray_ray_arrays_d (double).
+template <Scalar S, class CArrays>
+BasicRayArrays<S> ray_range(const CArrays& rays, const std::uint32_t* masks, std::size_t begin,
+                            std::size_t end) {
   auto from = [begin](const auto* array) { return array == nullptr ? nullptr : array + begin; };
-  return {from(rays.ox), from(rays.oy),   from(rays.oz),   from(rays.dx), from(rays.dy),
-          from(rays.dz), from(rays.tmin), from(rays.tmax), from(masks),   end - begin};
+  return BasicRayArrays<S>{from(rays.ox), from(rays.oy), from(rays.oz),   from(rays.dx),
+                           from(rays.dy), from(rays.dz), from(rays.tmin), from(rays.tmax),
+                           from(masks),   end - begin};
+}
+
+// sphray_intersect_arrays and its _d form: the closest hits of rays given as arrays, handed to
+// the C++ stream call of the scene's precision a range per thread.
+template <Scalar S, class CArrays>
+int closest_hits_of_arrays(const sphray_scene* scene, const CArrays* rays, std::size_t count, S* t,
+                           std::uint32_t* id, const sphray_query_args* args, const char* function) {
+  QueryOptions options;
+  int status = check_batch<S>(scene, rays, t, count, args, Inputs::rays, function, options);
+  if (status != SPHRAY_OK || count == 0) return status;
+  if (status = check_pointer(id, function, "id is NULL"); status != SPHRAY_OK) return status;
+  const bool complete = rays->ox != nullptr && rays->oy != nullptr && rays->oz != nullptr &&
+                        rays->dx != nullptr && rays->dy != nullptr && rays->dz != nullptr;
+  if (!complete)
+    return fail(SPHRAY_ERROR_NULL_POINTER, function, "a ray origin or direction array is NULL");
+  return run_batch(function, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
+    const BasicRayArrays<S> in = ray_range<S>(*rays, options.masks, begin, end);
+    const BasicHitArrays<S> out{t + begin, id + begin, end - begin};
+    scene->scene->in<S>()->answer(
+        [&](const auto& spheres) { sphray::intersect(spheres, in, out); });
+  });
 }
 
 }  // namespace
@@ -142,21 +166,13 @@ int sphray_occluded_d(const sphray_scene* scene, const sphray_ray_d* rays, size_
 
 int sphray_intersect_arrays(const sphray_scene* scene, const sphray_ray_arrays* rays, size_t count,
                             float* t, uint32_t* id, const sphray_query_args* args) {
-  constexpr const char* kFunction = "sphray_intersect_arrays";
-  QueryOptions options;
-  int status = check_batch(scene, rays, t, count, args, Inputs::rays, kFunction, options);
-  if (status != SPHRAY_OK || count == 0) return status;
-  if (status = check_pointer(id, kFunction, "id is NULL"); status != SPHRAY_OK) return status;
-  const bool complete = rays->ox != nullptr && rays->oy != nullptr && rays->oz != nullptr &&
-                        rays->dx != nullptr && rays->dy != nullptr && rays->dz != nullptr;
-  if (!complete)
-    return fail(SPHRAY_ERROR_NULL_POINTER, kFunction, "a ray origin or direction array is NULL");
-  return run_batch(kFunction, count, options, [&](unsigned, std::size_t begin, std::size_t end) {
-    const sphray::RayArrays in = ray_range(*rays, options.masks, begin, end);
-    const sphray::HitArrays out{t + begin, id + begin, end - begin};
-    scene->scene->in<float>()->answer(
-        [&](const auto& spheres) { sphray::intersect(spheres, in, out); });
-  });
+  return closest_hits_of_arrays(scene, rays, count, t, id, args, "sphray_intersect_arrays");
+}
+
+int sphray_intersect_arrays_d(const sphray_scene* scene, const sphray_ray_arrays_d* rays,
+                              size_t count, double* t, uint32_t* id,
+                              const sphray_query_args* args) {
+  return closest_hits_of_arrays(scene, rays, count, t, id, args, "sphray_intersect_arrays_d");
 }
 
 int sphray_surface(const sphray_scene* scene, const sphray_ray* rays, const sphray_hit* hits,

@@ -73,6 +73,13 @@ void intersect(SphereViewd spheres, std::span<const Rayd> rays, std::span<Hitd> 
   detail::active_entries().intersect_stream_d(spheres, rays.data(), hits.data(), rays.size());
 }
 
+void intersect(SphereViewd spheres, const RayArraysd& rays, const HitArraysd& hits) {
+  detail::check_arrays(rays, hits);
+  detail::intersect_in_chunks(rays, hits, [&](std::span<const Rayd> in, std::span<Hitd> out) {
+    intersect(spheres, in, out);
+  });
+}
+
 void occluded(SphereViewd spheres, std::span<const Rayd> rays, std::span<bool> blocked) {
   if (rays.size() != blocked.size())
     throw std::length_error("sphray::occluded: rays and blocked differ in size");

@@ -6,7 +6,10 @@
 // unit, is not called here.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
+#include <span>
 #include <stdexcept>
 
 #include "simd/force_inline.hpp"
@@ -17,7 +20,8 @@
 namespace sphray::detail {
 
 /// The public stream calls' checks of their arrays (sphray/query.hpp).
-inline void check_arrays(const RayArrays& rays, const HitArrays& hits) {
+template <Scalar S>
+void check_arrays(const BasicRayArrays<S>& rays, const BasicHitArrays<S>& hits) {
   if (hits.count != rays.count)
     throw std::length_error("sphray::intersect: rays and hits differ in count");
   if (rays.count == 0) return;
@@ -27,6 +31,25 @@ inline void check_arrays(const RayArrays& rays, const HitArrays& hits) {
     throw std::invalid_argument("sphray::intersect: a ray origin or direction array is null");
   if (hits.t == nullptr || hits.id == nullptr)
     throw std::invalid_argument("sphray::intersect: a hit array is null");
+}
+
+/// hits from rays through stream(rays, hits), the span stream of Rayd and Hitd, a stack chunk
+/// at a time: double's streams take one ray at a time (no packets, no walks in turns), so
+/// arrays in double gain nothing from being read in place, and a chunk keeps the hits the span
+/// stream's, bit for bit, with no second stream to keep in step. Not for per-ISA code.
+template <class Stream>
+void intersect_in_chunks(const RayArraysd& rays, const HitArraysd& hits, Stream stream) {
+  constexpr std::size_t kChunk = 256;
+  std::array<Rayd, kChunk> in;
+  std::array<Hitd, kChunk> out;
+  for (std::size_t start = 0; start < rays.count; start += kChunk) {
+    const std::size_t n = std::min(kChunk, rays.count - start);
+    for (std::size_t i = 0; i < n; ++i)
+      in[i] = rays.at(start + i);
+    stream(std::span<const Rayd>(in.data(), n), std::span<Hitd>(out.data(), n));
+    for (std::size_t i = 0; i < n; ++i)
+      hits.set(start + i, out[i]);
+  }
 }
 
 }  // namespace sphray::detail

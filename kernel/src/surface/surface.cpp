@@ -154,37 +154,68 @@ void require(bool holds, const char* what) {
   if (!holds) throw std::invalid_argument(what);
 }
 
-bool complete(const SurfaceArrays& s) {
+template <Scalar S>
+bool complete(const BasicSurfaceArrays<S>& s) {
   return s.px != nullptr && s.py != nullptr && s.pz != nullptr && s.nx != nullptr &&
          s.ny != nullptr && s.nz != nullptr && s.front_face != nullptr && s.ex != nullptr &&
          s.ey != nullptr && s.ez != nullptr;
 }
-}  // namespace
 
-void surfaces(SphereView spheres, const RayArrays& rays, const HitArrays& hits,
-              const SurfaceArrays& out) {
+// surfaces()'s checks, for either precision: true when there is work.
+template <Scalar S>
+bool check_surfaces(const BasicRayArrays<S>& rays, const BasicHitArrays<S>& hits,
+                    const BasicSurfaceArrays<S>& out) {
   if (hits.count != rays.count || out.count != rays.count)
     throw std::length_error("sphray::surfaces: rays, hits and surfaces differ in count");
-  if (rays.count == 0) return;
+  if (rays.count == 0) return false;
   require(rays.ox != nullptr && rays.oy != nullptr && rays.oz != nullptr && rays.dx != nullptr &&
               rays.dy != nullptr && rays.dz != nullptr,
           "sphray::surfaces: a ray origin or direction array is null");
   require(hits.t != nullptr && hits.id != nullptr, "sphray::surfaces: a hit array is null");
   require(complete(out), "sphray::surfaces: a surface array is null");
-  detail::active_entries().surfaces(spheres, rays, hits, out);
+  return true;
 }
 
-void offset_origins(const SurfaceArrays& surfaces, const VectorArrays& dirs,
-                    const VectorOutArrays& origins) {
+// offset_origins()'s checks, for either precision: true when there is work.
+template <Scalar S>
+bool check_origins(const BasicSurfaceArrays<S>& surfaces, const BasicVectorArrays<S>& dirs,
+                   const BasicVectorOutArrays<S>& origins) {
   if (dirs.count != surfaces.count || origins.count != surfaces.count)
     throw std::length_error("sphray::offset_origins: surfaces, dirs and origins differ in count");
-  if (surfaces.count == 0) return;
+  if (surfaces.count == 0) return false;
   require(complete(surfaces), "sphray::offset_origins: a surface array is null");
   require(dirs.x != nullptr && dirs.y != nullptr && dirs.z != nullptr,
           "sphray::offset_origins: a direction array is null");
   require(origins.x != nullptr && origins.y != nullptr && origins.z != nullptr,
           "sphray::offset_origins: an origin array is null");
-  detail::active_entries().offset_origins(surfaces, dirs, origins);
+  return true;
+}
+}  // namespace
+
+void surfaces(SphereView spheres, const RayArrays& rays, const HitArrays& hits,
+              const SurfaceArrays& out) {
+  if (check_surfaces(rays, hits, out)) detail::active_entries().surfaces(spheres, rays, hits, out);
+}
+
+void offset_origins(const SurfaceArrays& surfaces, const VectorArrays& dirs,
+                    const VectorOutArrays& origins) {
+  if (check_origins(surfaces, dirs, origins))
+    detail::active_entries().offset_origins(surfaces, dirs, origins);
+}
+
+// Double: surface() and offset_origin() one at a time, as double's other streams are.
+void surfaces(SphereViewd spheres, const RayArraysd& rays, const HitArraysd& hits,
+              const SurfaceArraysd& out) {
+  if (!check_surfaces(rays, hits, out)) return;
+  for (std::size_t i = 0; i < rays.count; ++i)
+    out.set(i, surface(spheres, rays.at(i), hits.at(i)));
+}
+
+void offset_origins(const SurfaceArraysd& surfaces, const VectorArraysd& dirs,
+                    const VectorOutArraysd& origins) {
+  if (!check_origins(surfaces, dirs, origins)) return;
+  for (std::size_t i = 0; i < surfaces.count; ++i)
+    origins.set(i, offset_origin(surfaces.at(i), dirs.at(i)));
 }
 
 }  // namespace sphray
