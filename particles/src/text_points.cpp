@@ -212,22 +212,6 @@ Points read_points(const std::filesystem::path& file, const PointOptions& option
   return parser.finish();
 }
 
-namespace {
-
-// points with their floats widened as their doubles, when asked: the formats that store floats
-// (.sphp) or fewer digits than a float holds (PDB's three decimals) have nothing more to keep.
-Points with_doubles(Points points, const PointOptions& options) {
-  if (options.keep_doubles) {
-    const SphereSoA& f = points.spheres;
-    points.doubles.reserve(f.size());
-    for (std::uint32_t id = 0; id < f.size(); ++id)
-      points.doubles.add(vec3_cast<double>(f.center(id)), f.radius(id));
-  }
-  return points;
-}
-
-}  // namespace
-
 bool is_particle_file(const std::filesystem::path& path) {
   const std::string ext = lower(path.extension().string());
   return ext == ".sphp" || ext == ".xyz" || ext == ".csv" || ext == ".ply" || ext == ".pdb" ||
@@ -236,10 +220,10 @@ bool is_particle_file(const std::filesystem::path& path) {
 
 Points read_particle_file(const std::filesystem::path& path, const PointOptions& options) {
   const std::string ext = lower(path.extension().string());
-  if (SphpFile::named(path)) return with_doubles({read_sphp(path), {}, {}}, options);
+  if (SphpFile::named(path)) return {read_sphp(path), {}, {}};
   if (ext == ".xyz" || ext == ".csv") return read_points(path, options);
   if (ext == ".ply") return read_ply(path, options);
-  if (ext == ".pdb" || ext == ".ent") return with_doubles(read_pdb(path), options);
+  if (ext == ".pdb" || ext == ".ent") return read_pdb(path);
   throw ParticleError(path.string() +
                       ": expected a particle file ending in .sphp, .xyz, .csv, .ply, .pdb or .ent");
 }

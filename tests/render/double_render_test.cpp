@@ -256,4 +256,31 @@ TEST_F(DoubleCli, RendersAFileInDoubleAsTheLibraryDoes) {
   EXPECT_TRUE(std::equal(image.rgb.begin(), image.rgb.end(), written.rgb.begin()));
 }
 
+TEST_F(DoubleCli, ParticleFilesKeepTheirDigitsOrAreWidened) {
+  SceneOptions options;
+  options.precision = Precision::float64;
+  sphray::test::write_text(path("p.xyz"), "30000.0001 2 3 0.5\n1 2 3 4\n");
+  const Scene text = load_particle_scene(path("p.xyz"), options);
+  ASSERT_TRUE(text.doubles.has_value());
+  ASSERT_EQ(text.doubles->spheres.size(), 2u);
+  EXPECT_EQ(text.doubles->spheres.center(0), (Vec3d{30000.0001, 2, 3}));
+  EXPECT_EQ(text.doubles->lookfrom, vec3_cast<double>(text.camera.lookfrom));
+
+  // A .sphp file holds floats: its doubles are those floats, widened.
+  std::string bytes;
+  particles::write_particle_file(
+      [&bytes](const void* data, std::size_t size) {
+        bytes.append(static_cast<const char*>(data), size);
+      },
+      path("p.sphp"), text.spheres.view());
+  sphray::test::write_text(path("p.sphp"), bytes);
+  const Scene binary = load_particle_scene(path("p.sphp"), options);
+  ASSERT_TRUE(binary.doubles.has_value());
+  ASSERT_EQ(binary.doubles->spheres.size(), 2u);
+  for (std::uint32_t id = 0; id < 2; ++id)
+    EXPECT_EQ(binary.doubles->spheres.center(id), vec3_cast<double>(binary.spheres.center(id)));
+  EXPECT_NE(binary.doubles->spheres.center(0).x, 30000.0001);
+  EXPECT_EQ(binary.doubles->lookat, vec3_cast<double>(binary.camera.lookat));
+}
+
 }  // namespace

@@ -39,9 +39,11 @@ Scene load_particle_scene(const std::filesystem::path& file, const SceneOptions&
   const auto bound = static_cast<float>(0.5 * std::sqrt(dx * dx + dy * dy + dz * dz));
   scene.camera = framing((lo + hi) * 0.5f, bound);
   if (options.precision == Precision::float64) {
-    scene.doubles =
-        SceneDoubles{std::move(points.doubles), vec3_cast<double>(scene.camera.lookfrom),
-                     vec3_cast<double>(scene.camera.lookat)};
+    // .sphp and PDB have no more digits than their floats and give no doubles: widened here.
+    scene.doubles = points.doubles.empty() ? doubles_of(scene)
+                                           : SceneDoubles{std::move(points.doubles),
+                                                          vec3_cast<double>(scene.camera.lookfrom),
+                                                          vec3_cast<double>(scene.camera.lookat)};
   }
   return scene;
 }

@@ -116,7 +116,8 @@ struct PointOptions {
   std::optional<float> radius;
   /// Also keep every coordinate and radius as the file writes it, in double (Points::doubles):
   /// for a scene traced in double (`sphray render --precision double`). Text and PLY files
-  /// are read again as doubles; a .sphp file holds floats, and PDB files are widened.
+  /// are read again as doubles; .sphp (floats by format) and PDB (three decimals) have no more
+  /// digits than their floats, and leave Points::doubles empty.
   bool keep_doubles = false;
 };
 
@@ -124,8 +125,8 @@ struct PointOptions {
 struct Points {
   SphereSoA spheres;
   std::vector<Vec3> colors;  // empty when the file has none
-  /// With PointOptions::keep_doubles: the same spheres as the file writes them, in double
-  /// (spheres holds them rounded to float). Empty otherwise.
+  /// With PointOptions::keep_doubles, for text and PLY files: the same spheres as the file
+  /// writes them, in double (spheres holds them rounded to float). Empty otherwise.
   SphereSoAd doubles;
 };
 
