@@ -7,6 +7,7 @@
 #include <string>
 
 #include "reductions.hpp"
+#include "routing.hpp"
 #include "sphray/mpi/agreement.hpp"
 
 namespace sphray::mpi {
@@ -47,12 +48,13 @@ MPI_Datatype bytes_type(std::size_t bytes) {
 DistributedScene::DistributedScene(MPI_Comm comm, SphereView spheres,
                                    std::span<const std::uint32_t> global_ids,
                                    BvhBuildOptions options)
-    : comm_(comm) {
+    : comm_(comm), buffers_(std::make_unique<detail::RouteBuffers>()) {
   // A share refused on one rank must stop every rank, or the others would wait for it in the
   // first reduction: the ranks agree on the outcome, and every rank throws the first failing
   // rank's message.
   enum Refusal : int { kNone = 0, kInvalid = 1, kFailed = 2 };
   RankError mine;
+  RegionBox region;
   int rank = 0;
   MPI_Comm_rank(comm_, &rank);
   const double start = MPI_Wtime();
@@ -61,6 +63,7 @@ DistributedScene::DistributedScene(MPI_Comm comm, SphereView spheres,
       throw std::invalid_argument("expected one global id per sphere");
     const SphereSoA local = sorted_by_id(spheres, global_ids, ids_);
     bvh_ = SphereBVH(local.view(), options);
+    region = region_box(local.view());
   } catch (const std::invalid_argument& e) {
     mine = {kInvalid, e.what()};
   } catch (const std::bad_alloc&) {
@@ -76,8 +79,13 @@ DistributedScene::DistributedScene(MPI_Comm comm, SphereView spheres,
   unsigned long long count = ids_.size(), total = 0;
   MPI_Allreduce(&count, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_);
   global_size_ = static_cast<std::size_t>(total);
+  int ranks = 1;
+  MPI_Comm_size(comm_, &ranks);
+  regions_.resize(static_cast<std::size_t>(ranks));
+  MPI_Allgather(&region, sizeof region, MPI_BYTE, regions_.data(), sizeof region, MPI_BYTE, comm_);
   hit_type_ = bytes_type(sizeof(Hit));
   nearest_type_ = bytes_type(sizeof(Nearest));
+  travelling_type_ = bytes_type(detail::kTravellingBytes);
   MPI_Op_create(detail::min_hit, /*commute=*/1, &min_hit_);
   MPI_Op_create(detail::min_nearest, /*commute=*/1, &min_nearest_);
 }
@@ -87,6 +95,7 @@ DistributedScene::~DistributedScene() {
   MPI_Op_free(&min_hit_);
   MPI_Type_free(&nearest_type_);
   MPI_Type_free(&hit_type_);
+  MPI_Type_free(&travelling_type_);
 }
 
 std::size_t DistributedScene::local_bytes() const {

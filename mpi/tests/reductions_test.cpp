@@ -115,6 +115,39 @@ void expect_reference_answers(const SphereSoA& all, const DistributedScene& scen
   }
 }
 
+// This rank's own rays for the routed queries: unequal runs of rays (rank r of p takes
+// [n r^2 / p^2, n (r + 1)^2 / p^2): rank 0 the fewest), with their indices in rays.
+std::vector<std::size_t> own_rays(std::size_t n) {
+  const auto p = static_cast<std::size_t>(ranks()), r = static_cast<std::size_t>(rank());
+  std::vector<std::size_t> mine;
+  for (std::size_t i = n * r * r / (p * p); i < n * (r + 1) * (r + 1) / (p * p); ++i)
+    mine.push_back(i);
+  return mine;
+}
+
+// The routed queries, each rank asking for its own rays, against the scalar reference.
+void expect_routed_answers(const SphereSoA& all, const DistributedScene& scene,
+                           const std::vector<Ray>& rays) {
+  const std::vector<std::size_t> mine = own_rays(rays.size());
+  std::vector<Ray> asked;
+  for (std::size_t i : mine)
+    asked.push_back(rays[i]);
+  std::vector<Hit> hits(asked.size());
+  scene.intersect_routed(asked, hits);
+  std::vector<char> occluded_storage(asked.size());
+  std::span<bool> occluded(reinterpret_cast<bool*>(occluded_storage.data()), asked.size());
+  scene.occluded_routed(asked, occluded);
+  int mismatches = 0;
+  for (std::size_t k = 0; k < asked.size() && mismatches < 10; ++k) {
+    const Hit expected = sphray::scalar::intersect(all.view(), asked[k]);
+    const bool ok = expected.id == hits[k].id && same_bits(expected.t, hits[k].t) &&
+                    occluded[k] == sphray::scalar::occluded(all.view(), asked[k]);
+    if (!ok) ++mismatches;
+    EXPECT_TRUE(ok) << "ray " << mine[k] << ": id " << hits[k].id << " t " << hits[k].t
+                    << ", expected id " << expected.id << " t " << expected.t;
+  }
+}
+
 void expect_reference_nearest(const SphereSoA& all, const DistributedScene& scene,
                               float max_distance) {
   std::mt19937 rng(77);
@@ -143,6 +176,7 @@ TEST(MpiReductions, ScatteredSpheresMatchTheSingleProcessKernel) {
   const DistributedScene scene(MPI_COMM_WORLD, share.spheres.view(), share.ids);
   EXPECT_EQ(scene.global_size(), all.size());
   expect_reference_answers(all, scene, random_rays(all, 4000, 2));
+  expect_routed_answers(all, scene, random_rays(all, 4000, 2));
   expect_reference_nearest(all, scene, sphray::kAnyDistance);
   expect_reference_nearest(all, scene, 0.5f);
 }
@@ -157,6 +191,7 @@ TEST(MpiReductions, SlabsOfSpaceMatchTheSingleProcessKernel) {
   });
   const DistributedScene scene(MPI_COMM_WORLD, share.spheres.view(), share.ids);
   expect_reference_answers(all, scene, random_rays(all, 4000, 4));
+  expect_routed_answers(all, scene, random_rays(all, 4000, 4));
   expect_reference_nearest(all, scene, sphray::kAnyDistance);
 }
 
@@ -185,7 +220,35 @@ TEST(MpiReductions, EqualTOnTwoRanksGoesToTheLowerGlobalId) {
     }
   }
   expect_reference_answers(all, scene, rays);
+  expect_routed_answers(all, scene, rays);
   expect_reference_nearest(all, scene, sphray::kAnyDistance);
+}
+
+TEST(MpiReductions, RoutedRaysVisitOnlyTheRegionsBeforeTheirHit) {
+  // A row of unit spheres along x, split into slabs, and rays along +x from the left: each ray
+  // hits a sphere in the first slab, so no other rank traces it. Rays beside the row cross no
+  // region and are traced nowhere.
+  SphereSoA all;
+  for (int k = 0; k < 64; ++k)
+    all.add({3.0f * static_cast<float>(k), 0, 0}, 1.0f);
+  const Share share =
+      share_of(all, [](std::uint32_t id) { return static_cast<int>(id) * ranks() / 64; });
+  const DistributedScene scene(MPI_COMM_WORLD, share.spheres.view(), share.ids);
+  std::vector<Ray> rays;
+  for (int k = 0; k < 100; ++k) {
+    const float y = -0.9f + 0.018f * static_cast<float>(k);
+    rays.push_back(Ray{{-10, y, 0}, {1, 0, 0}});      // hits sphere 0
+    rays.push_back(Ray{{-10, y + 5, 0}, {1, 0, 0}});  // beside the row
+  }
+  expect_routed_answers(all, scene, rays);
+  unsigned long long traced = scene.route_counts().traced, asked = scene.route_counts().asked;
+  MPI_Allreduce(MPI_IN_PLACE, &traced, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &asked, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(asked, 2 * rays.size());  // both queries
+  EXPECT_EQ(traced, rays.size());     // the 100 rays that hit, once each, per query
+  if (rank() != 0) {
+    EXPECT_EQ(scene.route_counts().traced, 0u);  // only rank 0 holds sphere 0
+  }
 }
 
 TEST(MpiReductions, ARankWithoutSpheresTakesPart) {
@@ -200,6 +263,7 @@ TEST(MpiReductions, ARankWithoutSpheresTakesPart) {
   }
   const DistributedScene scene(MPI_COMM_WORLD, share.spheres.view(), share.ids);
   expect_reference_answers(all, scene, random_rays(all, 2000, 8));
+  expect_routed_answers(all, scene, random_rays(all, 2000, 8));
   expect_reference_nearest(all, scene, 3.0f);
 }
 
@@ -217,6 +281,13 @@ TEST(MpiReductions, NoSpheresAnywhereIsAllMisses) {
     EXPECT_EQ(hits[i].id, sphray::kNoHit);
     EXPECT_TRUE(same_bits(hits[i].t, rays[i].tmax));
   }
+  std::vector<Hit> routed(rays.size());
+  scene.intersect_routed(rays, routed);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    EXPECT_EQ(routed[i].id, sphray::kNoHit);
+    EXPECT_TRUE(same_bits(routed[i].t, rays[i].tmax));
+  }
+  EXPECT_EQ(scene.route_counts().traced, 0u);
 }
 
 TEST(MpiReductions, RepeatedIdsAreRefused) {

@@ -387,6 +387,8 @@ struct BenchArgs {
   std::uint64_t rays = 1 << 20;
   std::size_t batch = 1 << 16;
   bool beside = false;  // rays that pass beside the box: what a rank's root alone costs
+  bool routed = false;  // each rank traces its share of a batch, routed to the regions it crosses
+  std::string from = "z";  // the axis the view looks along, from its + side
 };
 
 double max_over_ranks(double value, MPI_Comm comm) {
@@ -414,11 +416,20 @@ std::pair<sphray::Vec3, sphray::Vec3> global_bounds(const sphray::SphereSoA& sph
   return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
 }
 
-// Ray i of a pinhole view of the box from in front (+z), on a square grid of side^2 rays: the
-// same on every rank, from i alone. beside: the view is moved two box widths along +x, so that
-// every ray passes the box (and each rank's tree rejects it at its root).
+// Ray i of a pinhole view of the box from in front along an axis (2: from +z, 0: from +x), on
+// a square grid of side^2 rays: the same on every rank, from i alone. beside: the view is moved
+// two box widths sideways, so that every ray passes the box (and each rank's tree rejects it at
+// its root).
 sphray::Ray view_ray(std::uint64_t i, std::uint64_t side, sphray::Vec3 lo, sphray::Vec3 hi,
-                     bool beside) {
+                     int axis, bool beside) {
+  // The view from +z in a frame whose z is the axis, then back: swap axis and z.
+  const auto swapped = [axis](sphray::Vec3 v) {
+    float c[3] = {v.x, v.y, v.z};
+    std::swap(c[axis], c[2]);
+    return sphray::Vec3{c[0], c[1], c[2]};
+  };
+  lo = swapped(lo);
+  hi = swapped(hi);
   const sphray::Vec3 center = 0.5f * (lo + hi);
   const float extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
   const sphray::Vec3 eye{center.x, center.y, hi.z + extent};
@@ -426,16 +437,43 @@ sphray::Ray view_ray(std::uint64_t i, std::uint64_t side, sphray::Vec3 lo, sphra
   const float v = (static_cast<float>(i / side) + 0.5f) / static_cast<float>(side);
   const float shift = beside ? 2.0f * extent : 0.0f;
   const sphray::Vec3 target{lo.x + shift + u * (hi.x - lo.x), lo.y + v * (hi.y - lo.y), hi.z};
-  return sphray::Ray{eye, target - eye};
+  return sphray::Ray{swapped(eye), swapped(target - eye)};
+}
+
+int axis_of(const std::string& name) {
+  return name == "x" ? 0 : name == "y" ? 1 : 2;
+}
+
+// The routed bench's line: rays per second, the slowest rank's tracing and exchanges, the rays
+// each rank traced against all rays, and the exchanges per batch.
+void print_routed_row(const DistributedScene& scene, const BenchArgs& args, double trace_seconds,
+                      double local_seconds, double exchange_seconds, std::uint64_t found,
+                      MPI_Comm comm) {
+  unsigned long long counts[3] = {scene.route_counts().traced, found, scene.route_counts().sent};
+  unsigned long long most_traced = counts[0];
+  MPI_Allreduce(MPI_IN_PLACE, counts, 3, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &most_traced, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, comm);
+  if (rank_of(comm) != 0) return;
+  const double rays = static_cast<double>(args.rays);
+  const double batches = std::ceil(rays / static_cast<double>(args.batch));
+  std::printf("| %d | %zu | %.3g | %.2f | %.2f | %.3f | %.3f | %.3f | %.1f | %.1f%% |\n",
+              size_of(comm), scene.global_size(), rays / trace_seconds, local_seconds,
+              exchange_seconds, static_cast<double>(most_traced) / rays,
+              static_cast<double>(counts[0]) / rays, static_cast<double>(counts[2]) / rays,
+              static_cast<double>(scene.route_counts().waves) / batches,
+              100.0 * static_cast<double>(counts[1]) / rays);
 }
 
 // bench: reads a particle file over the ranks, builds, traces closest-hit rays in batches, and
 // prints one line of figures (the slowest rank's where ranks differ).
-// The ranks must trace the same batches: every one of them calls a reduction per batch.
+// Shared batches (the default): every rank traces every ray, one reduction per batch. Routed
+// (--routed): each rank its run of every batch, exchanged only with the regions it crosses.
 int run_bench(const BenchArgs& args, MPI_Comm comm) {
   const Setting options[] = {{"--rays", args.rays},
                              {"--batch", static_cast<std::uint64_t>(args.batch)},
-                             {"--beside", args.beside ? 1u : 0u}};
+                             {"--beside", args.beside ? 1u : 0u},
+                             {"--routed", args.routed ? 1u : 0u},
+                             {"--from", static_cast<std::uint64_t>(axis_of(args.from))}};
   if (const int status = refuse_disagreement(options, comm)) return status;
   sphray::mpi::ParticleShare share;
   MPI_Barrier(comm);
@@ -473,18 +511,32 @@ int run_bench(const BenchArgs& args, MPI_Comm comm) {
   std::uint64_t found = 0;
   MPI_Barrier(comm);
   start = MPI_Wtime();
+  const auto rank = static_cast<std::uint64_t>(rank_of(comm));
+  const auto ranks = static_cast<std::uint64_t>(size_of(comm));
   for (std::uint64_t first = 0; first < args.rays; first += args.batch) {
-    const std::size_t n =
-        static_cast<std::size_t>(std::min<std::uint64_t>(args.batch, args.rays - first));
+    std::uint64_t n = std::min<std::uint64_t>(args.batch, args.rays - first);
+    std::uint64_t begin = first;
+    if (args.routed) {  // this rank's run of the batch
+      begin = first + n * rank / ranks;
+      n = first + n * (rank + 1) / ranks - begin;
+    }
     for (std::size_t k = 0; k < n; ++k)
-      rays[k] = view_ray(first + k, side, lo, hi, args.beside);
-    scene.intersect(std::span(rays.data(), n), std::span(hits.data(), n));
+      rays[k] = view_ray(begin + k, side, lo, hi, axis_of(args.from), args.beside);
+    const std::span<const sphray::Ray> batch(rays.data(), n);
+    if (args.routed)
+      scene.intersect_routed(batch, std::span(hits.data(), n));
+    else
+      scene.intersect(batch, std::span(hits.data(), n));
     for (std::size_t k = 0; k < n; ++k)
       found += hits[k].found() ? 1 : 0;
   }
   const double trace_seconds = max_over_ranks(MPI_Wtime() - start, comm);
   const double reduce_seconds = max_over_ranks(scene.times().reduce, comm);
   const double local_seconds = max_over_ranks(scene.times().local, comm);
+  if (args.routed) {
+    print_routed_row(scene, args, trace_seconds, local_seconds, reduce_seconds, found, comm);
+    return 0;
+  }
   if (rank_of(comm) == 0) {
     std::printf("| %d | %zu | %.1f | %.2f | %.2f | %.3g | %.2f | %.2f | %.1f%% |\n", size_of(comm),
                 scene.global_size(), bytes / (1 << 20), read_seconds, build_seconds,
@@ -529,6 +581,12 @@ int run(int argc, char** argv, MPI_Comm comm) {
       ->capture_default_str();
   bench->add_option("--batch", bench_args.batch, "Rays per reduction")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 24))
+      ->capture_default_str();
+  bench->add_flag("--routed", bench_args.routed,
+                  "Each rank traces its share of every batch, sent only to the ranks whose "
+                  "region a ray crosses (intersect_routed); prints the routed table's row");
+  bench->add_option("--from", bench_args.from, "The axis the view looks along, from its + side")
+      ->check(CLI::IsMember({"x", "y", "z"}))
       ->capture_default_str();
   bench->add_flag("--beside", bench_args.beside,
                   "Aim every ray beside the spheres: the cost of a tree's root alone");

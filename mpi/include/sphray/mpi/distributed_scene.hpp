@@ -13,24 +13,46 @@
 // (lower local id) is the global one.
 //
 // Every query is collective: all ranks call it, in the same order, with batches of the same
-// size. Construction is collective too. Destroy the scene before MPI_Finalize.
+// size. Construction is collective too. Destroy the scene before MPI_Finalize. A scene keeps
+// counters and scratch for its queries: call them from one thread at a time.
+//
+// The routed queries (intersect_routed, occluded_routed) take each rank's own rays instead:
+// every rank calls them, in the same order, but with its own batch of any size (0 included). A
+// ray goes only to the ranks whose region (the box around their spheres, regions.hpp) its
+// segment crosses, front to back, carrying the nearest hit so far, which bounds the next
+// rank's search and skips the regions that start beyond it; the answer returns to the rank that
+// asked. Exchanges are sparse (MPI_Alltoallv of the travelling rays), one per wave of visits
+// for the whole batch. Same answers, bit for bit, as the shared-batch queries.
 #pragma once
 
 #include <mpi.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
+#include "sphray/mpi/regions.hpp"
 #include "sphray/sphray.hpp"
 
 namespace sphray::mpi {
+namespace detail {
+struct RouteBuffers;
+}
 
 /// Seconds spent, summed over the queries so far on this rank.
 struct QueryTimes {
   double local = 0;   // tracing the rank's own spheres
-  double reduce = 0;  // in MPI_Allreduce, waiting for slower ranks included
+  double reduce = 0;  // in MPI_Allreduce or the routed exchanges, waiting for others included
+};
+
+/// What the routed queries did on this rank, summed over the calls so far.
+struct RouteCounts {
+  std::uint64_t asked = 0;   // rays this rank passed in
+  std::uint64_t traced = 0;  // rays traced in this rank's tree (its own and others')
+  std::uint64_t sent = 0;    // records this rank sent to other ranks (rays and answers)
+  std::uint64_t waves = 0;   // exchanges
 };
 
 class DistributedScene {
@@ -57,6 +79,14 @@ class DistributedScene {
   void nearest(std::span<const Vec3> points, std::span<Nearest> out,
                float max_distance = kAnyDistance) const;
 
+  /// As intersect, for this rank's own rays: collective, but each rank passes its own batch.
+  void intersect_routed(std::span<const Ray> rays, std::span<Hit> hits) const;
+  /// As occluded, for this rank's own rays (collective, each rank its own batch).
+  void occluded_routed(std::span<const Ray> rays, std::span<bool> out) const;
+  /// The region of every rank, in rank order.
+  std::span<const RegionBox> regions() const { return regions_; }
+  const RouteCounts& route_counts() const { return counts_; }
+
   std::size_t local_size() const { return ids_.size(); }
   std::size_t global_size() const { return global_size_; }
   /// Bytes this rank holds for the scene: its sphere copy, ids and tree.
@@ -69,14 +99,21 @@ class DistributedScene {
  private:
   template <typename Local, typename Reduce>
   void timed(Local&& local, Reduce&& reduce) const;
+  template <typename Visit>
+  void route(std::span<const Ray> rays, Visit&& visit, bool stop_at_hit,
+             std::span<Hit> answers) const;
 
   MPI_Comm comm_;
   std::vector<std::uint32_t> ids_;  // global ids, ascending: local id i is global ids_[i]
   SphereBVH bvh_;
   std::size_t global_size_ = 0;
   double build_seconds_ = 0;
+  std::vector<RegionBox> regions_;  // every rank's, in rank order
   mutable QueryTimes times_;
-  MPI_Datatype hit_type_ = MPI_DATATYPE_NULL, nearest_type_ = MPI_DATATYPE_NULL;
+  mutable RouteCounts counts_;
+  std::unique_ptr<detail::RouteBuffers> buffers_;  // the routed queries' scratch
+  MPI_Datatype hit_type_ = MPI_DATATYPE_NULL, nearest_type_ = MPI_DATATYPE_NULL,
+               travelling_type_ = MPI_DATATYPE_NULL;
   MPI_Op min_hit_ = MPI_OP_NULL, min_nearest_ = MPI_OP_NULL;
 };
 
