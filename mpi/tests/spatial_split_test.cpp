@@ -24,9 +24,12 @@ TEST(MpiSpatialSplit, EverySphereHasOneRankAndRanksOwnCompactRegions) {
   for (int ranks = 1; ranks <= 5; ++ranks) {
     std::vector<int> owners(spheres.size(), 0);
     double volumes = 0;
+    const auto all_at_once = sphray::mpi::spatial_shares(spheres.view(), ranks);
+    ASSERT_EQ(all_at_once.size(), static_cast<std::size_t>(ranks));
     for (int rank = 0; rank < ranks; ++rank) {
       const std::vector<std::uint32_t> ids =
           sphray::mpi::spatial_share(spheres.view(), rank, ranks);
+      EXPECT_EQ(ids, all_at_once[static_cast<std::size_t>(rank)]);
       EXPECT_TRUE(std::is_sorted(ids.begin(), ids.end()));
       EXPECT_NEAR(static_cast<double>(ids.size()), 4000.0 / ranks, 1.0);
       sphray::Vec3 lo{1e9f, 1e9f, 1e9f}, hi{-1e9f, -1e9f, -1e9f};

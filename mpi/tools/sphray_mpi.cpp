@@ -40,6 +40,7 @@
 #include "sphray/render/image_file.hpp"
 #include "sphray/render/renderer.hpp"
 #include "sphray/render/scene.hpp"
+#include "view_rays.hpp"
 
 namespace {
 
@@ -47,6 +48,9 @@ using namespace sphray::render;
 using sphray::mpi::DistributedScene;
 using sphray::mpi::RankError;
 using sphray::mpi::Setting;
+using sphray::mpi::tools::axis_of;
+using sphray::mpi::tools::box_of;
+using sphray::mpi::tools::view_ray;
 
 constexpr int kExitIo = 1;
 constexpr int kExitUsage = 2;
@@ -397,51 +401,14 @@ double max_over_ranks(double value, MPI_Comm comm) {
   return largest;
 }
 
-// The box around every rank's spheres (centres padded by their radii).
+// The box around every rank's spheres.
 std::pair<sphray::Vec3, sphray::Vec3> global_bounds(const sphray::SphereSoA& spheres,
                                                     MPI_Comm comm) {
-  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (std::uint32_t i = 0; i < spheres.size(); ++i) {
-    const sphray::Vec3 c = spheres.center(i);
-    const float r = spheres.radius(i);
-    const float v[3] = {c.x, c.y, c.z};
-    for (int k = 0; k < 3; ++k) {
-      if (!std::isfinite(v[k]) || !(r > 0) || !std::isfinite(r)) continue;
-      lo[k] = std::min(lo[k], v[k] - r);
-      hi[k] = std::max(hi[k], v[k] + r);
-    }
-  }
-  MPI_Allreduce(MPI_IN_PLACE, lo, 3, MPI_FLOAT, MPI_MIN, comm);
-  MPI_Allreduce(MPI_IN_PLACE, hi, 3, MPI_FLOAT, MPI_MAX, comm);
-  return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
-}
-
-// Ray i of a pinhole view of the box from in front along an axis (2: from +z, 0: from +x), on
-// a square grid of side^2 rays: the same on every rank, from i alone. beside: the view is moved
-// two box widths sideways, so that every ray passes the box (and each rank's tree rejects it at
-// its root).
-sphray::Ray view_ray(std::uint64_t i, std::uint64_t side, sphray::Vec3 lo, sphray::Vec3 hi,
-                     int axis, bool beside) {
-  // The view from +z in a frame whose z is the axis, then back: swap axis and z.
-  const auto swapped = [axis](sphray::Vec3 v) {
-    float c[3] = {v.x, v.y, v.z};
-    std::swap(c[axis], c[2]);
-    return sphray::Vec3{c[0], c[1], c[2]};
-  };
-  lo = swapped(lo);
-  hi = swapped(hi);
-  const sphray::Vec3 center = 0.5f * (lo + hi);
-  const float extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-  const sphray::Vec3 eye{center.x, center.y, hi.z + extent};
-  const float u = (static_cast<float>(i % side) + 0.5f) / static_cast<float>(side);
-  const float v = (static_cast<float>(i / side) + 0.5f) / static_cast<float>(side);
-  const float shift = beside ? 2.0f * extent : 0.0f;
-  const sphray::Vec3 target{lo.x + shift + u * (hi.x - lo.x), lo.y + v * (hi.y - lo.y), hi.z};
-  return sphray::Ray{swapped(eye), swapped(target - eye)};
-}
-
-int axis_of(const std::string& name) {
-  return name == "x" ? 0 : name == "y" ? 1 : 2;
+  auto [lo, hi] = box_of(spheres);
+  float low[3] = {lo.x, lo.y, lo.z}, high[3] = {hi.x, hi.y, hi.z};
+  MPI_Allreduce(MPI_IN_PLACE, low, 3, MPI_FLOAT, MPI_MIN, comm);
+  MPI_Allreduce(MPI_IN_PLACE, high, 3, MPI_FLOAT, MPI_MAX, comm);
+  return {{low[0], low[1], low[2]}, {high[0], high[1], high[2]}};
 }
 
 // The routed bench's line: rays per second, the slowest rank's tracing and exchanges, the rays

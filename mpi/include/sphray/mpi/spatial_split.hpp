@@ -20,4 +20,8 @@ std::vector<std::uint32_t> morton_order(SphereView spheres);
 /// spheres belongs to exactly one rank.
 std::vector<std::uint32_t> spatial_share(SphereView spheres, int rank, int ranks);
 
+/// Every rank's spatial_share at once (one sort for all): what a single process playing the
+/// ranks needs.
+std::vector<std::vector<std::uint32_t>> spatial_shares(SphereView spheres, int ranks);
+
 }  // namespace sphray::mpi
