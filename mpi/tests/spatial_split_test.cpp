@@ -53,4 +53,39 @@ TEST(MpiSpatialSplit, EverySphereHasOneRankAndRanksOwnCompactRegions) {
   EXPECT_THROW(sphray::mpi::spatial_share(spheres.view(), 2, 2), std::invalid_argument);
 }
 
+TEST(MpiSpatialSplit, PlaneSharesAreDisjointBoxesOfEqualCounts) {
+  std::mt19937 rng(4);
+  sphray::SphereSoA spheres;
+  for (int i = 0; i < 5000; ++i) {
+    const auto coordinate = [&] { return static_cast<float>(rng() % 100000) * 1e-4f; };
+    spheres.add({coordinate(), 2 * coordinate(), coordinate()}, 0.01f);
+  }
+  spheres.set(17, {std::numeric_limits<float>::quiet_NaN(), 0, 0}, 0.1f);
+  for (int ranks : {1, 2, 3, 5, 8, 13}) {
+    const auto shares = sphray::mpi::plane_shares(spheres.view(), ranks);
+    ASSERT_EQ(shares.size(), static_cast<std::size_t>(ranks));
+    std::vector<int> owners(spheres.size(), 0);
+    double volumes = 0;
+    for (const auto& ids : shares) {
+      EXPECT_TRUE(std::is_sorted(ids.begin(), ids.end()));
+      EXPECT_NEAR(static_cast<double>(ids.size()), 5000.0 / ranks, 2.0);
+      sphray::Vec3 lo{1e9f, 1e9f, 1e9f}, hi{-1e9f, -1e9f, -1e9f};
+      for (std::uint32_t id : ids) {
+        ++owners[id];
+        const sphray::Vec3 c = spheres.center(id);
+        if (!std::isfinite(c.x)) continue;
+        lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
+        hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
+      }
+      volumes += static_cast<double>(hi.x - lo.x) * (hi.y - lo.y) * (hi.z - lo.z);
+    }
+    // Cells of planes through the centres: their centres' boxes tile the scene's (10 x 20 x 10)
+    // without overlap, so their volumes add up to at most the scene's.
+    EXPECT_LE(volumes, 2000.0 * 1.0001) << ranks << " ranks";
+    for (std::size_t id = 0; id < owners.size(); ++id)
+      EXPECT_EQ(owners[id], 1) << "sphere " << id << ", " << ranks << " ranks";
+  }
+  EXPECT_THROW(sphray::mpi::plane_shares(spheres.view(), 0), std::invalid_argument);
+}
+
 }  // namespace

@@ -73,8 +73,9 @@ void walk(const std::vector<SimulatedRank>& ranks, std::span<const mpi::RegionBo
 
 // Prints the table's row for `ranks` ranks; returns the answers unlike one tree's.
 std::uint64_t simulate(const SphereSoA& spheres, const SphereBVH& whole, int ranks,
-                       std::uint64_t rays, int axis) {
-  const auto shares = mpi::spatial_shares(spheres.view(), ranks);
+                       std::uint64_t rays, int axis, bool planes) {
+  const auto shares = planes ? mpi::plane_shares(spheres.view(), ranks)
+                             : mpi::spatial_shares(spheres.view(), ranks);
   std::vector<SimulatedRank> simulated(shares.size());
   std::vector<mpi::RegionBox> regions(shares.size());
   for (std::size_t r = 0; r < shares.size(); ++r) {
@@ -122,6 +123,7 @@ int main(int argc, char** argv) {
   std::vector<int> rank_counts{16, 64, 256, 1024, 2048};
   std::uint64_t rays = 1 << 18;
   std::string from = "z";
+  std::string split = "morton";
   app.add_option("scene", scene_name, "A preset (random:N) or a .json scene")->required();
   app.add_option("--ranks", rank_counts, "The rank counts to play")
       ->delimiter(',')
@@ -131,6 +133,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--from", from, "The axis the view looks along, from its + side")
       ->check(CLI::IsMember({"x", "y", "z"}))
+      ->capture_default_str();
+  app.add_option("--split", split,
+                 "morton: equal runs of a Morton curve (sphray-mpi's split); planes: a k-d "
+                 "split by count")
+      ->check(CLI::IsMember({"morton", "planes"}))
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
@@ -148,7 +155,7 @@ int main(int argc, char** argv) {
                      ranks, spheres.size());
         return 2;
       }
-      wrong += simulate(spheres, whole, ranks, rays, mpi::tools::axis_of(from));
+      wrong += simulate(spheres, whole, ranks, rays, mpi::tools::axis_of(from), split == "planes");
     }
     if (wrong > 0) {
       std::fprintf(stderr, "sphray-mpi-simulate: %llu routed answers differ from one tree's\n",

@@ -6,7 +6,7 @@
 //
 // Two ways to share the work (--distribution, docs/distributed.md). Replicated: every rank
 // builds the whole scene and renders every rank-th tile of the image on its own; rank 0 adds
-// the shares up. Split: every rank keeps the spheres of one region of space (spatial_share)
+// the shares up. Split: every rank keeps the spheres of one region of space (plane_shares)
 // and each batch of rays the renderer traces is answered by all ranks together
 // (DistributedScene). Either way the image is the single-process `sphray render`'s, byte for
 // byte, whatever the rank count. auto, the default, replicates when the whole scene's tree fits
@@ -30,6 +30,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "command/render_args.hpp"
 #include "image/atomic_output.hpp"
@@ -142,10 +143,12 @@ class DistributedQueries final : public RayQueries {
   const DistributedScene& scene_;
 };
 
-// The scene's spheres this rank keeps, with their ids in the scene. Throws std::bad_alloc.
+// The scene's spheres this rank keeps, with their ids in the scene: its cell of a split by
+// planes, whose regions overlap least. Throws std::bad_alloc.
 void take_share(const Scene& scene, MPI_Comm comm, sphray::SphereSoA& mine,
                 std::vector<std::uint32_t>& ids) {
-  ids = sphray::mpi::spatial_share(scene.spheres.view(), rank_of(comm), size_of(comm));
+  ids = std::move(sphray::mpi::plane_shares(
+      scene.spheres.view(), size_of(comm))[static_cast<std::size_t>(rank_of(comm))]);
   mine.reserve(ids.size());
   for (std::uint32_t id : ids)
     mine.add(scene.spheres.center(id), scene.spheres.radius(id), scene.spheres.mask(id));

@@ -24,4 +24,11 @@ std::vector<std::uint32_t> spatial_share(SphereView spheres, int rank, int ranks
 /// ranks needs.
 std::vector<std::vector<std::uint32_t>> spatial_shares(SphereView spheres, int ranks);
 
+/// Shares cut by planes (a k-d split): the spheres are halved by count along the longest axis of
+/// their centres' box, the ranks in proportion, recursively. The regions are boxes that overlap
+/// only by the spheres' radii, where runs of a Morton curve cut at other than powers of eight
+/// straddle cells and their boxes overlap widely. Each share ascending; non-finite centres go
+/// with rank 0.
+std::vector<std::vector<std::uint32_t>> plane_shares(SphereView spheres, int ranks);
+
 }  // namespace sphray::mpi
