@@ -13,6 +13,20 @@
 
 namespace {
 
+// The volume of the box around the finite centres of ids; counts each id in owners.
+double centres_box_volume(const sphray::SphereSoA& spheres, const std::vector<std::uint32_t>& ids,
+                          std::vector<int>& owners) {
+  sphray::Vec3 lo{1e9f, 1e9f, 1e9f}, hi{-1e9f, -1e9f, -1e9f};
+  for (std::uint32_t id : ids) {
+    ++owners[id];
+    const sphray::Vec3 c = spheres.center(id);
+    if (!std::isfinite(c.x)) continue;
+    lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
+    hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
+  }
+  return static_cast<double>(hi.x - lo.x) * (hi.y - lo.y) * (hi.z - lo.z);
+}
+
 TEST(MpiSpatialSplit, EverySphereHasOneRankAndRanksOwnCompactRegions) {
   std::mt19937 rng(3);
   sphray::SphereSoA spheres;
@@ -32,15 +46,7 @@ TEST(MpiSpatialSplit, EverySphereHasOneRankAndRanksOwnCompactRegions) {
       EXPECT_EQ(ids, all_at_once[static_cast<std::size_t>(rank)]);
       EXPECT_TRUE(std::is_sorted(ids.begin(), ids.end()));
       EXPECT_NEAR(static_cast<double>(ids.size()), 4000.0 / ranks, 1.0);
-      sphray::Vec3 lo{1e9f, 1e9f, 1e9f}, hi{-1e9f, -1e9f, -1e9f};
-      for (std::uint32_t id : ids) {
-        ++owners[id];
-        const sphray::Vec3 c = spheres.center(id);
-        if (!std::isfinite(c.x)) continue;
-        lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
-        hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
-      }
-      volumes += static_cast<double>(hi.x - lo.x) * (hi.y - lo.y) * (hi.z - lo.z);
+      volumes += centres_box_volume(spheres, ids, owners);
     }
     // The scene's box is 10^3; a split by id gives ranks boxes of nearly that each. Runs of a
     // Morton curve cut at other than powers of two are not boxes, so their boxes overlap some.
@@ -69,15 +75,7 @@ TEST(MpiSpatialSplit, PlaneSharesAreDisjointBoxesOfEqualCounts) {
     for (const auto& ids : shares) {
       EXPECT_TRUE(std::is_sorted(ids.begin(), ids.end()));
       EXPECT_NEAR(static_cast<double>(ids.size()), 5000.0 / ranks, 2.0);
-      sphray::Vec3 lo{1e9f, 1e9f, 1e9f}, hi{-1e9f, -1e9f, -1e9f};
-      for (std::uint32_t id : ids) {
-        ++owners[id];
-        const sphray::Vec3 c = spheres.center(id);
-        if (!std::isfinite(c.x)) continue;
-        lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
-        hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
-      }
-      volumes += static_cast<double>(hi.x - lo.x) * (hi.y - lo.y) * (hi.z - lo.z);
+      volumes += centres_box_volume(spheres, ids, owners);
     }
     // Cells of planes through the centres: their centres' boxes tile the scene's (10 x 20 x 10)
     // without overlap, so their volumes add up to at most the scene's.

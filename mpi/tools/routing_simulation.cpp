@@ -35,10 +35,11 @@ struct SimulatedRank {
 };
 
 struct Tally {
-  std::vector<std::uint64_t> traced;  // per rank
-  std::uint64_t sent = 0;             // records between different ranks: rays and answers
-  std::uint64_t waves = 0;            // the exchanges the busiest batch needs
-  std::uint64_t wrong = 0;            // answers unlike the whole scene's tree
+  std::vector<std::uint64_t> traced;   // per rank
+  std::vector<std::uint64_t> crossed;  // per rank: rays whose whole segment crosses its region
+  std::uint64_t sent = 0;              // records between different ranks: rays and answers
+  std::uint64_t waves = 0;             // the exchanges the busiest batch needs
+  std::uint64_t wrong = 0;             // answers unlike the whole scene's tree
 };
 
 // Ray `ray` of owner `owner`, walked through its regions as intersect_routed walks it.
@@ -63,6 +64,10 @@ void walk(const std::vector<SimulatedRank>& ranks, std::span<const mpi::RegionBo
     if (hit.t < best.t || (hit.t == best.t && hit.id < best.id)) best = hit;
   }
   tally.sent += holder != owner ? 1 : 0;  // the answer goes home
+  // Shared batches search every region the segment crosses, with no bound from the others.
+  for (mpi::RegionKey crossing = mpi::next_region(regions, ray, ray.tmax, {}); crossing.region >= 0;
+       crossing = mpi::next_region(regions, ray, ray.tmax, crossing))
+    ++tally.crossed[static_cast<std::size_t>(crossing.region)];
   // Wave k carries the k-th visits; one more brings answers home from another rank.
   tally.waves = std::max<std::uint64_t>(tally.waves, visits + (holder != owner ? 1 : 0));
   const Hit expected = intersect(whole, ray);
@@ -91,6 +96,7 @@ std::uint64_t simulate(const SphereSoA& spheres, const SphereBVH& whole, int ran
   const auto side = static_cast<std::uint64_t>(std::ceil(std::sqrt(static_cast<double>(rays))));
   Tally tally;
   tally.traced.assign(shares.size(), 0);
+  tally.crossed.assign(shares.size(), 0);
   const auto p = static_cast<std::uint64_t>(ranks);
   for (std::uint64_t i = 0; i < rays; ++i) {
     const Ray ray = mpi::tools::view_ray(i, side, lo, hi, axis, false);
@@ -101,14 +107,15 @@ std::uint64_t simulate(const SphereSoA& spheres, const SphereBVH& whole, int ran
     traced += t;
     busiest = std::max(busiest, t);
   }
+  const std::uint64_t most_crossed = *std::max_element(tally.crossed.begin(), tally.crossed.end());
   const double n = static_cast<double>(rays);
   const double mean = static_cast<double>(traced) / static_cast<double>(p);
-  std::printf("| %d | %zu | %.3f | %.3f | %.2f | %.3f | %llu | %llu |\n", ranks,
+  std::printf("| %d | %zu | %.3f | %.3f | %.2f | %.3f | %llu | %.3f | %llu |\n", ranks,
               spheres.size() / shares.size(), static_cast<double>(traced) / n,
               static_cast<double>(busiest) / n,
               mean > 0 ? static_cast<double>(busiest) / mean : 0.0,
               static_cast<double>(tally.sent) / n, static_cast<unsigned long long>(tally.waves),
-              static_cast<unsigned long long>(tally.wrong));
+              static_cast<double>(most_crossed) / n, static_cast<unsigned long long>(tally.wrong));
   return tally.wrong;
 }
 
@@ -146,8 +153,9 @@ int main(int argc, char** argv) {
     const SphereBVH whole(spheres.view());
     std::printf(
         "| ranks | spheres a rank | visits a ray | busiest rank's visits a ray | "
-        "busiest over mean | records sent a ray | waves | answers unlike one tree |\n"
-        "|---|---|---|---|---|---|---|---|\n");
+        "busiest over mean | records sent a ray | waves | shared batches: busiest rank's "
+        "crossings a ray | answers unlike one tree |\n"
+        "|---|---|---|---|---|---|---|---|---|\n");
     std::uint64_t wrong = 0;
     for (int ranks : rank_counts) {
       if (static_cast<std::size_t>(ranks) > spheres.size()) {
