@@ -127,20 +127,29 @@ std::uint64_t scene_hash(const Scene& scene) {
   return hash.value();
 }
 
-// The renderer's queries answered by every rank's share of the spheres together.
+// The renderer's queries answered by every rank's share of the spheres together: shared
+// batches (every rank the same rays), or routed (every rank its own rays, each sent only to the
+// regions it crosses).
 class DistributedQueries final : public RayQueries {
  public:
-  explicit DistributedQueries(const DistributedScene& scene) : scene_(scene) {}
+  DistributedQueries(const DistributedScene& scene, bool routed) : scene_(scene), routed_(routed) {}
   void intersect(std::span<const sphray::Ray> rays, std::span<sphray::Hit> hits) const override {
-    scene_.intersect(rays, hits);
+    if (routed_)
+      scene_.intersect_routed(rays, hits);
+    else
+      scene_.intersect(rays, hits);
   }
   void occluded(std::span<const sphray::Ray> rays, std::span<bool> out) const override {
-    scene_.occluded(rays, out);
+    if (routed_)
+      scene_.occluded_routed(rays, out);
+    else
+      scene_.occluded(rays, out);
   }
   bool collective() const override { return true; }
 
  private:
   const DistributedScene& scene_;
+  bool routed_;
 };
 
 // The scene's spheres this rank keeps, with their ids in the scene: its cell of a split by
@@ -175,25 +184,33 @@ std::unique_ptr<PendingImageFile> open_output(const std::string& path, bool forc
 }
 
 // Collective whatever rank 0's --quiet, which only decides whether it prints.
+// Collective. Routed: every rank traced its own rays, so the counts are summed and the
+// slowest rank's time taken; shared: every rank traced every ray, rank 0's figures are all.
 void print_summary(const RenderArgs& args, const RenderOptions& options, const RenderStats& stats,
-                   const DistributedScene& scene) {
+                   const DistributedScene& scene, bool routed) {
   MPI_Comm comm = scene.comm();
-  double reduce = scene.times().reduce, slowest_reduce = 0;
+  double times[2] = {scene.times().reduce, stats.seconds}, slowest[2] = {0, 0};
   unsigned long long bytes = scene.local_bytes(), largest = 0;
-  MPI_Reduce(&reduce, &slowest_reduce, 1, MPI_DOUBLE, MPI_MAX, 0, comm);
+  unsigned long long rays[4] = {stats.camera_rays, stats.bounce_rays, stats.shadow_rays,
+                                scene.route_counts().traced},
+                     all[4] = {0, 0, 0, 0};
+  MPI_Reduce(times, slowest, 2, MPI_DOUBLE, MPI_MAX, 0, comm);
   MPI_Reduce(&bytes, &largest, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, 0, comm);
+  MPI_Reduce(rays, all, 4, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, comm);
   if (rank_of(comm) != 0 || args.quiet) return;
-  const std::uint64_t rays = stats.camera_rays + stats.bounce_rays + stats.shadow_rays;
+  if (!routed) std::copy(rays, rays + 3, all);
+  const double total = static_cast<double>(all[0] + all[1] + all[2]);
+  const double seconds = routed ? slowest[1] : stats.seconds;
   std::printf(
-      "wrote %s: %dx%d, %d spp, %s, %d ranks, %.3f s, %.0f rays/s (%llu camera + %llu bounce + "
-      "%llu shadow rays); %zu spheres, at most %llu bytes and %.3f s in reductions a rank\n",
+      "wrote %s: %dx%d, %d spp, %s, %d ranks%s, %.3f s, %.0f rays/s (%llu camera + %llu bounce + "
+      "%llu shadow rays); %zu spheres, at most %llu bytes and %.3f s in %s a rank",
       args.output.c_str(), options.width, options.height, stats.spp, args.mode.c_str(),
-      size_of(comm), stats.seconds,
-      stats.seconds > 0 ? static_cast<double>(rays) / stats.seconds : 0.0,
-      static_cast<unsigned long long>(stats.camera_rays),
-      static_cast<unsigned long long>(stats.bounce_rays),
-      static_cast<unsigned long long>(stats.shadow_rays), scene.global_size(), largest,
-      slowest_reduce);
+      size_of(comm), routed ? " (routed)" : "", seconds, seconds > 0 ? total / seconds : 0.0,
+      all[0], all[1], all[2], scene.global_size(), largest, slowest[0],
+      routed ? "exchanges" : "reductions");
+  if (routed)
+    std::printf("; %.3f rays traced in the trees a ray", total > 0 ? all[3] / total : 0.0);
+  std::printf("\n");
 }
 
 // Rank 0 writes the image (output is null on the other ranks); every rank learns whether it
@@ -210,7 +227,7 @@ int commit_image(PendingImageFile* output, const Image& image, MPI_Comm comm) {
   return agreed_status(mine, comm);
 }
 
-enum class Distribution { automatic, replicated, split };
+enum class Distribution { automatic, replicated, split, routed };
 
 // Bytes a rank needs beyond the scene it has read to hold the whole scene's tree: the tree
 // (under 40 a sphere, docs/bvh.md) and the build's records of the spheres.
@@ -298,6 +315,11 @@ int run_render(const RenderArgs& args, Distribution distribution, MPI_Comm comm)
       options.spp = args.spp;
       options.seed = args.seed;
       options.max_depth = args.max_depth;
+      if (distribution == Distribution::routed && options.mode == Mode::path) {
+        throw std::invalid_argument(
+            "--distribution routed: expected a mode other than path (the path tracer's bounces "
+            "differ between the ranks' tiles; use split or replicated)");
+      }
     } catch (const SceneError& e) {
       mine = {kExitUsage, e.what()};
     } catch (const std::invalid_argument& e) {
@@ -351,11 +373,14 @@ int run_render(const RenderArgs& args, Distribution distribution, MPI_Comm comm)
     report(e.what());
     return kExitIo;
   }
-  const DistributedQueries queries(*distributed);
+  const bool routed = distribution == Distribution::routed;
+  const DistributedQueries queries(*distributed, routed);
   RenderStats stats;
-  const Image image = render(*scene, queries, options, {}, &stats);
+  if (routed) options.share = {rank_of(comm), size_of(comm)};  // each rank its own tiles
+  Image image = render(*scene, queries, options, {}, &stats);
+  if (routed) add_shares(image, comm);
   if (const int status = commit_image(output.get(), image, comm)) return status;
-  print_summary(args, options, stats, *distributed);
+  print_summary(args, options, stats, *distributed, routed);
   return 0;
 }
 
@@ -532,8 +557,10 @@ int run(int argc, char** argv, MPI_Comm comm) {
       ->add_option("--distribution", distribution_name,
                    "replicated: every rank holds the whole scene and renders a share of the "
                    "tiles; split: the spheres are split between the ranks, which answer every "
-                   "ray together; auto: replicated when the scene fits every rank")
-      ->check(CLI::IsMember({"auto", "replicated", "split"}))
+                   "ray together; routed: split, every rank renders a share of the tiles and "
+                   "sends each ray only to the ranks whose region it crosses (not path mode); "
+                   "auto: replicated when the scene fits every rank, split otherwise")
+      ->check(CLI::IsMember({"auto", "replicated", "split", "routed"}))
       ->capture_default_str();
   std::string generate_scene, generate_output;
   bool generate_force = false;
@@ -583,6 +610,7 @@ int run(int argc, char** argv, MPI_Comm comm) {
       return run_render(render_args,
                         distribution_name == "replicated" ? Distribution::replicated
                         : distribution_name == "split"    ? Distribution::split
+                        : distribution_name == "routed"   ? Distribution::routed
                                                           : Distribution::automatic,
                         comm);
     case kGenerate:

@@ -9,10 +9,12 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <span>
 #include <stdexcept>
 #include <type_traits>
+#include <vector>
 
 #include "frame/scene_queries.hpp"
 #include "frame/tile_tasks.hpp"
@@ -152,74 +154,129 @@ TileRect tile_rect(std::size_t tile, int image_width, int image_height) {
   return {x0, y0, std::min(kTileSize, image_width - x0), std::min(kTileSize, image_height - y0)};
 }
 
+// Calls visit(i, x, y) for the pixels of rects in turn, each rect row by row, i from 0.
+template <class Visit>
+void for_each_pixel(std::span<const TileRect> rects, Visit&& visit) {
+  std::size_t i = 0;
+  for (const TileRect& r : rects) {
+    for (int k = 0; k < r.width * r.height; ++k)
+      visit(i++, r.x0 + k % r.width, r.y0 + k / r.width);
+  }
+}
+
+std::size_t pixels_in(std::span<const TileRect> rects) {
+  std::size_t n = 0;
+  for (const TileRect& r : rects)
+    n += static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
+  return n;
+}
+
+// Scratch for tracing the pixels of some rects: one entry per pixel in each span.
+template <Scalar S>
+struct PixelScratch {
+  std::span<BasicRay<S>> rays;
+  std::span<BasicHit<S>> hits;
+  std::span<Vec3> sum;
+  std::span<bool> lit;
+  std::span<BasicRay<S>> shadows;
+  std::span<std::uint32_t> owner;  // the hit each shadow ray starts from
+  std::span<bool> blocked;
+};
+
+// The scratch of one tile, on the stack: no allocation.
+template <Scalar S>
+struct TileScratch {
+  std::array<BasicRay<S>, kTilePixels> rays, shadows;
+  std::array<BasicHit<S>, kTilePixels> hits;
+  std::array<Vec3, kTilePixels> sum;
+  std::array<bool, kTilePixels> lit, blocked;
+  std::array<std::uint32_t, kTilePixels> owner;
+  PixelScratch<S> spans() { return {rays, hits, sum, lit, shadows, owner, blocked}; }
+};
+
+// The scratch of many tiles, on the heap.
+template <Scalar S>
+struct ShareScratch {
+  explicit ShareScratch(std::size_t n)
+      : rays(n),
+        shadows(n),
+        hits(n),
+        sum(n),
+        owner(n),
+        lit(new bool[n]),
+        blocked(new bool[n]),
+        n(n) {}
+  std::vector<BasicRay<S>> rays, shadows;
+  std::vector<BasicHit<S>> hits;
+  std::vector<Vec3> sum;
+  std::vector<std::uint32_t> owner;
+  std::unique_ptr<bool[]> lit, blocked;  // not std::vector<bool>: spans of bool
+  std::size_t n;
+  PixelScratch<S> spans() {
+    return {rays, hits, sum, {lit.get(), n}, shadows, owner, {blocked.get(), n}};
+  }
+};
+
 // Shaded mode: the shadow rays of a batch of hits, traced as one batch; lit[i] says whether
 // hit i sees the light. Returns the number of shadow rays. Queries: RayQueries in float,
 // SphereQueries<double> in double.
 template <Scalar S, class Queries>
-std::uint64_t trace_shadows(const Shader<S>& shader, const Queries& queries,
-                            std::span<const BasicRay<S>> rays, std::span<const BasicHit<S>> hits,
-                            std::span<bool> lit) {
-  std::array<BasicRay<S>, kTilePixels> shadows;
-  std::array<std::uint16_t, kTilePixels> owner;  // the hit each shadow ray starts from
-  std::array<bool, kTilePixels> blocked;
+std::uint64_t trace_shadows(const Shader<S>& shader, const Queries& queries, std::size_t n,
+                            const PixelScratch<S>& scratch) {
   std::size_t m = 0;
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    lit[i] = false;
-    if (const auto shadow = shader.shadow_ray(rays[i], hits[i])) {
-      shadows[m] = *shadow;
-      owner[m] = static_cast<std::uint16_t>(i);
+  for (std::size_t i = 0; i < n; ++i) {
+    scratch.lit[i] = false;
+    if (const auto shadow = shader.shadow_ray(scratch.rays[i], scratch.hits[i])) {
+      scratch.shadows[m] = *shadow;
+      scratch.owner[m] = static_cast<std::uint32_t>(i);
       ++m;
     }
   }
-  queries.occluded(std::span<const BasicRay<S>>(shadows.data(), m), std::span(blocked.data(), m));
+  queries.occluded(std::span<const BasicRay<S>>(scratch.shadows.data(), m),
+                   scratch.blocked.first(m));
   for (std::size_t k = 0; k < m; ++k)
-    lit[owner[k]] = !blocked[k];
+    scratch.lit[scratch.owner[k]] = !scratch.blocked[k];
   return m;
 }
 
-// Renders one tile into image: per sample, the tile's camera rays go to the kernel as one
-// stream (in shaded mode, then their shadow rays as another), then each hit is shaded and
-// summed. Fixed-size buffers on the stack: no allocation.
+// Renders the pixels of rects into image: per sample, their camera rays go to the kernel as
+// one stream (in shaded mode, then their shadow rays as another), then each hit is shaded and
+// summed. One tile's rects trace from the stack; a collective frame traces all of a process's
+// tiles together, one call a sample. Returns the shadow rays traced.
 template <Scalar S, class Queries>
-std::uint64_t render_tile(const TileRect& r, const BasicCamera<S>& camera, const Queries& queries,
-                          const Shader<S>& shader, const RenderOptions& options, Image& image) {
-  std::array<BasicRay<S>, kTilePixels> rays;
-  std::array<BasicHit<S>, kTilePixels> hits;
-  std::array<Vec3, kTilePixels> sum{};
-  std::array<bool, kTilePixels> lit{};
-  std::size_t n = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
+std::uint64_t render_rects(std::span<const TileRect> rects, const BasicCamera<S>& camera,
+                           const Queries& queries, const Shader<S>& shader,
+                           const RenderOptions& options, const PixelScratch<S>& scratch,
+                           Image& image) {
+  const std::size_t n = pixels_in(rects);
+  std::fill(scratch.sum.begin(), scratch.sum.begin() + static_cast<std::ptrdiff_t>(n), Vec3{});
+  std::fill(scratch.lit.begin(), scratch.lit.begin() + static_cast<std::ptrdiff_t>(n), false);
+  const std::span<const BasicRay<S>> rays(scratch.rays.data(), n);
+  const std::span<const BasicHit<S>> hits(scratch.hits.data(), n);
   std::uint64_t shadow_rays = 0;
   for (int s = 0; s < options.spp; ++s) {
-    for (std::size_t i = 0; i < n; ++i) {
-      int x = r.x0 + static_cast<int>(i) % r.width;
-      int y = r.y0 + static_cast<int>(i) / r.width;
+    for_each_pixel(rects, [&](std::size_t i, int x, int y) {
       std::uint64_t pixel =
           static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(image.width) +
           static_cast<std::uint64_t>(x);
       auto [jx, jy] = jitter(pixel, options.spp, s, options.seed);
-      rays[i] = camera.ray(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
-    }
-    queries.intersect(std::span<const BasicRay<S>>(rays.data(), n), std::span(hits.data(), n));
-    if (shader.casts_shadows()) {
-      shadow_rays +=
-          trace_shadows<S>(shader, queries, std::span<const BasicRay<S>>(rays.data(), n),
-                           std::span<const BasicHit<S>>(hits.data(), n), std::span(lit.data(), n));
-    }
+      scratch.rays[i] = camera.ray(static_cast<float>(x) + jx, static_cast<float>(y) + jy);
+    });
+    queries.intersect(rays, scratch.hits.first(n));
+    if (shader.casts_shadows()) shadow_rays += trace_shadows<S>(shader, queries, n, scratch);
     for (std::size_t i = 0; i < n; ++i)
-      sum[i] += shader.shade(rays[i], hits[i], lit[i]);
+      scratch.sum[i] += shader.shade(rays[i], hits[i], scratch.lit[i]);
   }
   float inverse_spp = 1.0f / static_cast<float>(options.spp);
-  for (std::size_t i = 0; i < n; ++i) {
-    int x = r.x0 + static_cast<int>(i) % r.width;
-    int y = r.y0 + static_cast<int>(i) / r.width;
+  for_each_pixel(rects, [&](std::size_t i, int x, int y) {
     std::size_t pixel = static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) +
                         static_cast<std::size_t>(x);
     std::uint8_t* out = &image.rgb[3 * pixel];
-    Vec3 c = sum[i] * inverse_spp;
+    Vec3 c = scratch.sum[i] * inverse_spp;
     out[0] = to_byte(shader.encode(c.x));
     out[1] = to_byte(shader.encode(c.y));
     out[2] = to_byte(shader.encode(c.z));
-  }
+  });
   return shadow_rays;
 }
 
@@ -239,9 +296,11 @@ Image trace_frame(const BasicCamera<S>& camera, const Queries& queries, const Sh
   std::atomic<std::uint64_t> shadow_rays{0};
   std::atomic<std::uint64_t> camera_rays{0};
   auto render_tiles = [&](std::size_t begin, std::size_t end) {
+    TileScratch<S> scratch;
     for (std::size_t k = begin; k != end; ++k) {
       TileRect rect = tile_rect(options.share.tile(k), options.width, options.height);
-      shadow_rays += render_tile(rect, camera, queries, shader, options, image);
+      shadow_rays += render_rects(std::span<const TileRect>(&rect, 1), camera, queries, shader,
+                                  options, scratch.spans(), image);
       std::size_t finished = ++done;
       camera_rays += static_cast<std::uint64_t>(rect.width) *
                      static_cast<std::uint64_t>(rect.height) *
@@ -253,7 +312,17 @@ Image trace_frame(const BasicCamera<S>& camera, const Queries& queries, const Sh
   if (progress) progress(0, tiles, {});  // the tracing starts: any tree is built by now
   auto start = std::chrono::steady_clock::now();
   if (collective) {
-    render_tiles(0, tiles);  // every process the same calls in the same order
+    // Every process the same calls in the same order, one a sample (and one for its shadow
+    // rays) for all the tiles of its share together, whatever the share's size.
+    std::vector<TileRect> rects;
+    for (std::size_t k = 0; k < tiles; ++k)
+      rects.push_back(tile_rect(options.share.tile(k), options.width, options.height));
+    ShareScratch<S> scratch(pixels_in(rects));
+    shadow_rays += render_rects(std::span<const TileRect>(rects), camera, queries, shader, options,
+                                scratch.spans(), image);
+    camera_rays += pixels_in(rects) * static_cast<std::uint64_t>(options.spp);
+    done = tiles;
+    if (progress) progress(tiles, tiles, {camera_rays, 0, shadow_rays});
   } else {
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     trace_tiles_in(arena, tiles, render_tiles);

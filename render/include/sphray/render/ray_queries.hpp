@@ -17,9 +17,13 @@ class RayQueries {
   virtual void intersect(std::span<const Ray> rays, std::span<Hit> hits) const = 0;
   /// out[i]: whether rays[i] hits any of the scene's spheres in (tmin, tmax).
   virtual void occluded(std::span<const Ray> rays, std::span<bool> out) const = 0;
-  /// True when every call is collective: made by every process, in the same order, with
-  /// batches of the same sizes. The renderer then traces its tiles one after another, in
-  /// order, on the calling thread, and refuses a time limit (a clock is not the same on all).
+  /// True when every call is collective: made by every process, in the same order. The
+  /// renderer then traces on the calling thread and refuses a time limit (a clock is not the
+  /// same on all). Outside path mode it traces all the tiles of its share together, one call a
+  /// sample (and one for the shadow rays), so that every process makes the same calls whatever
+  /// its share: the batches may differ between processes (each its own tiles' rays). Path
+  /// mode traces tile by tile, each tile's rounds as they come: every process must have the
+  /// same share, hence the same batches.
   virtual bool collective() const { return false; }
 };
 
