@@ -79,4 +79,14 @@ RegionKey next_region(std::span<const RegionBox> regions, const Ray& ray, float 
   return next;
 }
 
+Ray bounded_by(const Ray& ray, const Hit& best) {
+  Ray bounded = ray;
+  if (best.found()) bounded.tmax = std::nextafter(best.t, std::numeric_limits<float>::infinity());
+  return bounded;
+}
+
+void keep_nearer(Hit& best, const Hit& hit) {
+  if (hit.t < best.t || (hit.t == best.t && hit.id < best.id)) best = hit;
+}
+
 }  // namespace sphray::mpi

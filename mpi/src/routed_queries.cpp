@@ -57,6 +57,8 @@ void DistributedScene::route(std::span<const Ray> rays, Visit&& visit, bool stop
   detail::RouteBuffers& buffers = *buffers_;
   std::vector<std::vector<Travelling>>& outgoing = buffers.outgoing;
   outgoing.resize(static_cast<std::size_t>(ranks));
+  for (std::vector<Travelling>& to_rank : outgoing)
+    to_rank.clear();  // a call refused below leaves records behind
   // Rays bound for this rank and answers owed to it never enter an exchange.
   std::vector<Travelling>& here = buffers.here;
   here.clear();
@@ -75,11 +77,13 @@ void DistributedScene::route(std::span<const Ray> rays, Visit&& visit, bool stop
     else
       here.push_back(t);
   };
+  const double first = MPI_Wtime();
   for (std::size_t i = 0; i < rays.size(); ++i) {
     Travelling t{rays[i], {rays[i].tmax, kNoHit}, 0.0f, me, static_cast<std::uint32_t>(i), 0};
     send_on(t, RegionKey{});
   }
   counts_.asked += rays.size();
+  times_.local += MPI_Wtime() - first;
   std::vector<Travelling>& visiting = buffers.visiting;
   for (;;) {
     const double start = MPI_Wtime();
@@ -92,6 +96,10 @@ void DistributedScene::route(std::span<const Ray> rays, Visit&& visit, bool stop
       times_.reduce += MPI_Wtime() - start;
       break;
     }
+    // Every rank sees the same total, so every rank refuses together. Below it, no count or
+    // index of an exchange overflows an int, nor a ray's index its 32 bits.
+    if (pending > static_cast<unsigned long long>(std::numeric_limits<int>::max()))
+      throw std::length_error("routed query: more than 2^31 - 1 rays in flight at once");
     detail::exchange(outgoing, buffers, travelling_type_, comm_);
     ++counts_.waves;
     const double traced = MPI_Wtime();
@@ -120,21 +128,11 @@ void DistributedScene::intersect_routed(std::span<const Ray> rays, std::span<Hit
   const auto visit = [&](std::span<Travelling> arrivals) {
     bounded.resize(arrivals.size());
     local.resize(arrivals.size());
-    // The nearest hit so far bounds the search; one step past it, since the kernel's interval
-    // is open and an equal t with a lower id must still be found.
-    for (std::size_t k = 0; k < arrivals.size(); ++k) {
-      bounded[k] = arrivals[k].ray;
-      if (arrivals[k].best.found())
-        bounded[k].tmax =
-            std::nextafter(arrivals[k].best.t, std::numeric_limits<float>::infinity());
-    }
+    for (std::size_t k = 0; k < arrivals.size(); ++k)
+      bounded[k] = bounded_by(arrivals[k].ray, arrivals[k].best);
     sphray::intersect(bvh_, bounded, local);
-    for (std::size_t k = 0; k < arrivals.size(); ++k) {
-      if (!local[k].found()) continue;
-      const Hit hit{local[k].t, ids_[local[k].id]};
-      Hit& best = arrivals[k].best;
-      if (hit.t < best.t || (hit.t == best.t && hit.id < best.id)) best = hit;
-    }
+    for (std::size_t k = 0; k < arrivals.size(); ++k)
+      if (local[k].found()) keep_nearer(arrivals[k].best, {local[k].t, ids_[local[k].id]});
   };
   route(rays, visit, /*stop_at_hit=*/false, hits);
 }

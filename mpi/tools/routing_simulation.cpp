@@ -56,12 +56,8 @@ void walk(const std::vector<SimulatedRank>& ranks, std::span<const mpi::RegionBo
     holder = region;
     ++visits;
     ++tally.traced[region];
-    Ray bounded = ray;
-    if (best.found()) bounded.tmax = std::nextafter(best.t, std::numeric_limits<float>::infinity());
-    const Hit local = intersect(ranks[region].tree, bounded);
-    if (!local.found()) continue;
-    const Hit hit{local.t, ranks[region].ids[local.id]};
-    if (hit.t < best.t || (hit.t == best.t && hit.id < best.id)) best = hit;
+    const Hit local = intersect(ranks[region].tree, mpi::bounded_by(ray, best));
+    if (local.found()) mpi::keep_nearer(best, {local.t, ranks[region].ids[local.id]});
   }
   tally.sent += holder != owner ? 1 : 0;  // the answer goes home
   // Shared batches search every region the segment crosses, with no bound from the others.

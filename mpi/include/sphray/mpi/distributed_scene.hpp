@@ -80,6 +80,8 @@ class DistributedScene {
                float max_distance = kAnyDistance) const;
 
   /// As intersect, for this rank's own rays: collective, but each rank passes its own batch.
+  /// Throws std::length_error on every rank when more than 2^31 - 1 rays would travel at once
+  /// (the ranks' batches together).
   void intersect_routed(std::span<const Ray> rays, std::span<Hit> hits) const;
   /// As occluded, for this rank's own rays (collective, each rank its own batch).
   void occluded_routed(std::span<const Ray> rays, std::span<bool> out) const;

@@ -50,4 +50,13 @@ constexpr bool operator<(const RegionKey& a, const RegionKey& b) {
 RegionKey next_region(std::span<const RegionBox> regions, const Ray& ray, float bound,
                       RegionKey after);
 
+/// The ray a region searches when the nearest hit so far is best: bounded one float step past
+/// it, since the kernel's interval is open and a sphere at the same t with a lower id must
+/// still be found. The ray itself before any hit.
+Ray bounded_by(const Ray& ray, const Hit& best);
+
+/// best becomes hit (a found hit, global id) when hit is nearer: a smaller t, or the same t
+/// and a lower id, the kernel's order.
+void keep_nearer(Hit& best, const Hit& hit);
+
 }  // namespace sphray::mpi
