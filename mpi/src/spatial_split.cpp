@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "storage/morton_order.hpp"
 
@@ -39,7 +40,7 @@ namespace {
 // Splits ids[begin, end) between ranks [first, first + count): the ranks below count / 2 get
 // the spheres below the cut along the longest axis of their centres' box, in proportion.
 void split_by_planes(SphereView spheres, std::vector<std::uint32_t>& ids, std::size_t begin,
-                     std::size_t end, int first, int count,
+                     std::size_t end, int first, int count, int only,
                      std::vector<std::vector<std::uint32_t>>& shares) {
   if (count == 1) {
     shares[static_cast<std::size_t>(first)].assign(ids.begin() + static_cast<std::ptrdiff_t>(begin),
@@ -68,14 +69,15 @@ void split_by_planes(SphereView spheres, std::vector<std::uint32_t>& ids, std::s
                    [along](std::uint32_t a, std::uint32_t b) {
                      return along[a] < along[b] || (along[a] == along[b] && a < b);
                    });
-  split_by_planes(spheres, ids, begin, cut, first, left, shares);
-  split_by_planes(spheres, ids, cut, end, first + left, count - left, shares);
+  // only >= 0: the share of that rank alone, so the other side is never split further.
+  if (only < 0 || only < first + left)
+    split_by_planes(spheres, ids, begin, cut, first, left, only, shares);
+  if (only < 0 || only >= first + left)
+    split_by_planes(spheres, ids, cut, end, first + left, count - left, only, shares);
 }
 
-}  // namespace
-
-std::vector<std::vector<std::uint32_t>> plane_shares(SphereView spheres, int ranks) {
-  if (ranks < 1) throw std::invalid_argument("plane_shares: expected ranks >= 1");
+// The shares of every rank (only < 0) or of rank `only` alone (the others left empty).
+std::vector<std::vector<std::uint32_t>> split_shares(SphereView spheres, int ranks, int only) {
   // Spheres with a NaN or infinite centre go with rank 0, as in spatial_share.
   std::vector<std::uint32_t> finite, other;
   for (std::size_t i = 0; i < spheres.count; ++i) {
@@ -84,10 +86,25 @@ std::vector<std::vector<std::uint32_t>> plane_shares(SphereView spheres, int ran
     (ok ? finite : other).push_back(static_cast<std::uint32_t>(i));
   }
   std::vector<std::vector<std::uint32_t>> shares(static_cast<std::size_t>(ranks));
-  split_by_planes(spheres, finite, 0, finite.size(), 0, ranks, shares);
-  shares[0].insert(shares[0].end(), other.begin(), other.end());
-  std::sort(shares[0].begin(), shares[0].end());
+  split_by_planes(spheres, finite, 0, finite.size(), 0, ranks, only, shares);
+  if (only <= 0) {
+    shares[0].insert(shares[0].end(), other.begin(), other.end());
+    std::sort(shares[0].begin(), shares[0].end());
+  }
   return shares;
+}
+
+}  // namespace
+
+std::vector<std::vector<std::uint32_t>> plane_shares(SphereView spheres, int ranks) {
+  if (ranks < 1) throw std::invalid_argument("plane_shares: expected ranks >= 1");
+  return split_shares(spheres, ranks, -1);
+}
+
+std::vector<std::uint32_t> plane_share(SphereView spheres, int rank, int ranks) {
+  if (ranks < 1 || rank < 0 || rank >= ranks)
+    throw std::invalid_argument("plane_share: expected 0 <= rank < ranks");
+  return std::move(split_shares(spheres, ranks, rank)[static_cast<std::size_t>(rank)]);
 }
 
 std::vector<std::vector<std::uint32_t>> spatial_shares(SphereView spheres, int ranks) {

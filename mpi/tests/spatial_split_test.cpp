@@ -72,7 +72,9 @@ TEST(MpiSpatialSplit, PlaneSharesAreDisjointBoxesOfEqualCounts) {
     ASSERT_EQ(shares.size(), static_cast<std::size_t>(ranks));
     std::vector<int> owners(spheres.size(), 0);
     double volumes = 0;
-    for (const auto& ids : shares) {
+    for (int rank = 0; rank < ranks; ++rank) {
+      const auto& ids = shares[static_cast<std::size_t>(rank)];
+      EXPECT_EQ(ids, sphray::mpi::plane_share(spheres.view(), rank, ranks)) << rank;
       EXPECT_TRUE(std::is_sorted(ids.begin(), ids.end()));
       EXPECT_NEAR(static_cast<double>(ids.size()), 5000.0 / ranks, 2.0);
       volumes += centres_box_volume(spheres, ids, owners);
@@ -84,6 +86,7 @@ TEST(MpiSpatialSplit, PlaneSharesAreDisjointBoxesOfEqualCounts) {
       EXPECT_EQ(owners[id], 1) << "sphere " << id << ", " << ranks << " ranks";
   }
   EXPECT_THROW(sphray::mpi::plane_shares(spheres.view(), 0), std::invalid_argument);
+  EXPECT_THROW(sphray::mpi::plane_share(spheres.view(), 3, 3), std::invalid_argument);
 }
 
 }  // namespace

@@ -156,8 +156,7 @@ class DistributedQueries final : public RayQueries {
 // planes, whose regions overlap least. Throws std::bad_alloc.
 void take_share(const Scene& scene, MPI_Comm comm, sphray::SphereSoA& mine,
                 std::vector<std::uint32_t>& ids) {
-  ids = std::move(sphray::mpi::plane_shares(
-      scene.spheres.view(), size_of(comm))[static_cast<std::size_t>(rank_of(comm))]);
+  ids = sphray::mpi::plane_share(scene.spheres.view(), rank_of(comm), size_of(comm));
   mine.reserve(ids.size());
   for (std::uint32_t id : ids)
     mine.add(scene.spheres.center(id), scene.spheres.radius(id), scene.spheres.mask(id));
@@ -183,9 +182,9 @@ std::unique_ptr<PendingImageFile> open_output(const std::string& path, bool forc
   return output;
 }
 
-// Collective whatever rank 0's --quiet, which only decides whether it prints.
-// Collective. Routed: every rank traced its own rays, so the counts are summed and the
-// slowest rank's time taken; shared: every rank traced every ray, rank 0's figures are all.
+// Collective whatever rank 0's --quiet, which only decides whether it prints. Routed: every rank
+// traced its own rays, so the counts are summed and the slowest rank's time taken; shared: every
+// rank traced every ray, rank 0's figures are all.
 void print_summary(const RenderArgs& args, const RenderOptions& options, const RenderStats& stats,
                    const DistributedScene& scene, bool routed) {
   MPI_Comm comm = scene.comm();

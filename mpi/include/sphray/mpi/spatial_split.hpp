@@ -31,4 +31,7 @@ std::vector<std::vector<std::uint32_t>> spatial_shares(SphereView spheres, int r
 /// with rank 0.
 std::vector<std::vector<std::uint32_t>> plane_shares(SphereView spheres, int ranks);
 
+/// Rank `rank`'s share of plane_shares alone: only the cells on its side are split further.
+std::vector<std::uint32_t> plane_share(SphereView spheres, int rank, int ranks);
+
 }  // namespace sphray::mpi
