@@ -88,9 +88,12 @@ DistributedScene::DistributedScene(MPI_Comm comm, SphereView spheres,
   travelling_type_ = bytes_type(detail::kTravellingBytes);
   MPI_Op_create(detail::min_hit, /*commute=*/1, &min_hit_);
   MPI_Op_create(detail::min_nearest, /*commute=*/1, &min_nearest_);
+  // Messages of its own, which no receive of the caller's on comm can take.
+  MPI_Comm_dup(comm_, &route_comm_);
 }
 
 DistributedScene::~DistributedScene() {
+  MPI_Comm_free(&route_comm_);
   MPI_Op_free(&min_nearest_);
   MPI_Op_free(&min_hit_);
   MPI_Type_free(&nearest_type_);

@@ -39,54 +39,87 @@ RegionBox region_box(SphereView spheres) {
   return box;
 }
 
-RegionKey next_region(std::span<const RegionBox> regions, const Ray& ray, float bound,
-                      RegionKey after) {
-  const float o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
-  const float d[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
-  RegionKey next{std::numeric_limits<float>::infinity(), -1};
-  bool valid = !std::isnan(ray.tmin) && !std::isnan(bound) && (d[0] != 0 || d[1] != 0 || d[2] != 0);
-  float reach = 0, speed = 0;  // the largest |o| and |d| components
+namespace {
+
+// The ray's origin and direction as arrays, and whether the ray can be routed at all (finite
+// origin and direction, a direction not zero, tmin not NaN).
+struct RayParts {
+  float o[3], d[3];
+  bool valid;
+  float scale;  // the largest |o| over the largest |d|: the origin's size in units of t
+};
+
+RayParts parts_of(const Ray& ray) {
+  RayParts p{{ray.origin.x, ray.origin.y, ray.origin.z},
+             {ray.dir.x, ray.dir.y, ray.dir.z},
+             !std::isnan(ray.tmin),
+             0.0f};
+  float size = 0, speed = 0;
   for (int k = 0; k < 3; ++k) {
-    valid = valid && std::isfinite(o[k]) && std::isfinite(d[k]);
-    reach = std::max(reach, std::abs(o[k]));
-    speed = std::max(speed, std::abs(d[k]));
+    p.valid = p.valid && std::isfinite(p.o[k]) && std::isfinite(p.d[k]);
+    size = std::max(size, std::abs(p.o[k]));
+    speed = std::max(speed, std::abs(p.d[k]));
   }
-  if (!valid) return next;
-  // The kernel rounds t relative to the origin's and the sphere's size (the latter is in the
-  // box's padding): the bound is widened by the same relative slack, which also covers the
-  // rounding of the slab test below.
-  const float t1 = bound + kRegionSlack * (std::abs(bound) + reach / speed);
-  const float inverse[3] = {1.0f / d[0], 1.0f / d[1], 1.0f / d[2]};
+  p.valid = p.valid && speed > 0;
+  p.scale = p.valid ? size / speed : 0.0f;
+  return p;
+}
+
+// The kernel rounds t relative to the origin's and the sphere's size (the latter is in the
+// box's padding): the bound is widened by the same relative slack, which also covers the
+// rounding of the slab test.
+float widened(float bound, float scale) {
+  return bound + kRegionSlack * (std::abs(bound) + scale);
+}
+
+}  // namespace
+
+RegionSteps next_regions(std::span<const RegionBox> regions, const Ray& ray, float bound,
+                         RegionKey after) {
+  RegionSteps steps;
+  const RayParts p = parts_of(ray);
+  if (!p.valid || std::isnan(bound)) return steps;
+  const float t1 = widened(bound, p.scale);
+  const float inverse[3] = {1.0f / p.d[0], 1.0f / p.d[1], 1.0f / p.d[2]};
+  RegionKey then{std::numeric_limits<float>::infinity(), -1};
   for (std::size_t q = 0; q < regions.size(); ++q) {
     const RegionBox& box = regions[q];
     if (box.empty) continue;
     float enter = ray.tmin, leave = t1;
     for (int k = 0; k < 3; ++k) {
-      if (d[k] == 0) {  // (lo - o) / 0 would be NaN for an origin on a face
-        if (o[k] < box.lo[k] || o[k] > box.hi[k]) leave = -std::numeric_limits<float>::infinity();
+      if (p.d[k] == 0) {  // (lo - o) / 0 would be NaN for an origin on a face
+        if (p.o[k] < box.lo[k] || p.o[k] > box.hi[k])
+          leave = -std::numeric_limits<float>::infinity();
         continue;
       }
-      float near = (box.lo[k] - o[k]) * inverse[k];
-      float far = (box.hi[k] - o[k]) * inverse[k];
+      float near = (box.lo[k] - p.o[k]) * inverse[k];
+      float far = (box.hi[k] - p.o[k]) * inverse[k];
       if (near > far) std::swap(near, far);
       enter = std::max(enter, near);
       leave = std::min(leave, far);
     }
     if (!(enter <= leave)) continue;
     const RegionKey key{enter, static_cast<int>(q)};
-    if (after < key && key < next) next = key;
+    if (!(after < key)) continue;
+    if (key < steps.next) {
+      then = steps.next;
+      steps.next = key;
+    } else if (key < then) {
+      then = key;
+    }
   }
-  return next;
+  steps.then = then.entry;
+  return steps;
 }
 
-Ray bounded_by(const Ray& ray, const Hit& best) {
-  Ray bounded = ray;
-  if (best.found()) bounded.tmax = std::nextafter(best.t, std::numeric_limits<float>::infinity());
-  return bounded;
+RegionKey next_region(std::span<const RegionBox> regions, const Ray& ray, float bound,
+                      RegionKey after) {
+  return next_regions(regions, ray, bound, after).next;
 }
 
-void keep_nearer(Hit& best, const Hit& hit) {
-  if (hit.t < best.t || (hit.t == best.t && hit.id < best.id)) best = hit;
+float reach(const Ray& ray, float bound) {
+  const RayParts p = parts_of(ray);
+  return p.valid ? widened(bound, p.scale) : std::numeric_limits<float>::quiet_NaN();
 }
 
 }  // namespace sphray::mpi

@@ -5,12 +5,15 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <functional>
 #include <limits>
 #include <random>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -168,6 +171,15 @@ void expect_reference_nearest(const SphereSoA& all, const DistributedScene& scen
   }
 }
 
+// Each rank a slab of [-10, 10] along x (the spheres of random_spheres), in rank order.
+Share slabs_of(const SphereSoA& all) {
+  return share_of(all, [&all](std::uint32_t id) {
+    const float x = all.center(id).x;
+    const int slab = std::isfinite(x) ? static_cast<int>((x + 10.0f) / 20.0f * ranks()) : 0;
+    return std::clamp(slab, 0, ranks() - 1);
+  });
+}
+
 TEST(MpiReductions, ScatteredSpheresMatchTheSingleProcessKernel) {
   const SphereSoA all = random_spheres(3000, 1);
   // Spheres dealt out by a hash of their id: every rank's share spans the whole box.
@@ -184,15 +196,62 @@ TEST(MpiReductions, ScatteredSpheresMatchTheSingleProcessKernel) {
 TEST(MpiReductions, SlabsOfSpaceMatchTheSingleProcessKernel) {
   const SphereSoA all = random_spheres(3000, 3);
   // Each rank a slab along x, as a spatial split gives; rays cross several slabs.
-  const Share share = share_of(all, [&all](std::uint32_t id) {
-    const float x = all.center(id).x;
-    const int slab = std::isfinite(x) ? static_cast<int>((x + 10.0f) / 20.0f * ranks()) : 0;
-    return std::clamp(slab, 0, ranks() - 1);
-  });
+  const Share share = slabs_of(all);
   const DistributedScene scene(MPI_COMM_WORLD, share.spheres.view(), share.ids);
   expect_reference_answers(all, scene, random_rays(all, 4000, 4));
   expect_routed_answers(all, scene, random_rays(all, 4000, 4));
   expect_reference_nearest(all, scene, sphray::kAnyDistance);
+}
+
+// Ranks that make different numbers of routed calls (a path tracer's tiles bounce unequally):
+// rank r asks for its rays in r + 1 calls, then finishes, answering the others' rays until
+// all have finished. Every answer is still the reference's, and the ranks go on together.
+TEST(MpiReductions, UnevenRoutedCallsEndWithFinish) {
+  const SphereSoA all = random_spheres(3000, 5);
+  const Share share = slabs_of(all);
+  const DistributedScene scene(MPI_COMM_WORLD, share.spheres.view(), share.ids);
+  const std::vector<Ray> rays = random_rays(all, 4000, 6);
+  const std::vector<std::size_t> mine = own_rays(rays.size());
+  const auto calls = static_cast<std::size_t>(rank()) + 1;
+  std::vector<Ray> asked;
+  for (std::size_t i : mine)
+    asked.push_back(rays[i]);
+  std::vector<Hit> hits(asked.size());
+  for (std::size_t c = 0; c < calls; ++c) {
+    const std::size_t begin = asked.size() * c / calls, end = asked.size() * (c + 1) / calls;
+    scene.intersect_routed(std::span(asked).subspan(begin, end - begin),
+                           std::span(hits).subspan(begin, end - begin));
+  }
+  scene.finish_routed();
+  for (std::size_t k = 0; k < asked.size(); ++k) {
+    const Hit expected = sphray::scalar::intersect(all.view(), asked[k]);
+    ASSERT_TRUE(expected.id == hits[k].id && same_bits(expected.t, hits[k].t))
+        << "ray " << mine[k] << ": id " << hits[k].id << ", expected id " << expected.id;
+  }
+  // The ranks left finish_routed together: the next calls pair up again.
+  expect_routed_answers(all, scene, random_rays(all, 1000, 7));
+}
+
+// Ranks that disagree on the kind of a routed call are told so, all of them, not left waiting.
+TEST(MpiReductions, RoutedCallsOfDifferentKindsAreRefusedOnEveryRank) {
+  const SphereSoA all = random_spheres(300, 8);
+  const Share share =
+      share_of(all, [](std::uint32_t id) { return static_cast<int>(id) % ranks(); });
+  const DistributedScene scene(MPI_COMM_WORLD, share.spheres.view(), share.ids);
+  const std::vector<Ray> rays = random_rays(all, 50, 9);
+  std::vector<Hit> hits(rays.size());
+  std::vector<char> storage(rays.size());
+  const std::span<bool> blocked(reinterpret_cast<bool*>(storage.data()), rays.size());
+  const bool mixed = ranks() > 1;  // rank 0 asks for hits, the others for occlusion
+  try {
+    if (rank() == 0)
+      scene.intersect_routed(rays, hits);
+    else
+      scene.occluded_routed(rays, blocked);
+    EXPECT_FALSE(mixed) << "rank " << rank() << " answered a mixed call";
+  } catch (const std::logic_error& e) {
+    EXPECT_TRUE(mixed) << e.what();
+  }
 }
 
 TEST(MpiReductions, EqualTOnTwoRanksGoesToTheLowerGlobalId) {

@@ -91,4 +91,25 @@ TEST(Regions, AnInvalidRayVisitsNothing) {
   EXPECT_EQ(next_region(regions, Ray{{-5, 0, 0}, {1, 0, 0}}, nan, RegionKey{}).region, -1);
 }
 
+// What a routed ray carries to skip the search after a visit: `then` is the entry of the next
+// region after the next one, and a region entered beyond reach(bound) is never visited.
+TEST(Regions, ThenIsTheEntryOfTheRegionAfterTheNext) {
+  const std::vector<RegionBox> regions = row_of_regions();
+  const Ray ray{{-5, 0, 0}, {1, 0, 0}};
+  const sphray::mpi::RegionSteps first = sphray::mpi::next_regions(regions, ray, INFINITY, {});
+  EXPECT_EQ(first.next.region, 1);
+  const RegionKey second = next_region(regions, ray, INFINITY, first.next);
+  EXPECT_EQ(second.region, 2);
+  EXPECT_EQ(first.then, second.entry);
+  // The last region has none after it.
+  const RegionKey last = next_region(regions, ray, INFINITY, second);
+  EXPECT_EQ(sphray::mpi::next_regions(regions, ray, INFINITY, last).then, INFINITY);
+  // A hit at t = 6 (x = 1) is short of region 2, entered at about t = 14: nothing left.
+  EXPECT_GT(first.then, sphray::mpi::reach(ray, 6.0f));
+  EXPECT_EQ(next_region(regions, ray, 6.0f, first.next).region, -1);
+  // A hit at t = 14.5 is not: region 2 is still visited.
+  EXPECT_LE(first.then, sphray::mpi::reach(ray, 14.5f));
+  EXPECT_TRUE(std::isnan(sphray::mpi::reach(Ray{{0, 0, 0}, {0, 0, 0}}, 1.0f)));
+}
+
 }  // namespace

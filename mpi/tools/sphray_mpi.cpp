@@ -146,6 +146,10 @@ class DistributedQueries final : public RayQueries {
       scene_.occluded(rays, out);
   }
   bool collective() const override { return true; }
+  bool uneven_calls() const override { return routed_; }
+  void finish() const override {
+    if (routed_) scene_.finish_routed();
+  }
 
  private:
   const DistributedScene& scene_;
@@ -314,11 +318,6 @@ int run_render(const RenderArgs& args, Distribution distribution, MPI_Comm comm)
       options.spp = args.spp;
       options.seed = args.seed;
       options.max_depth = args.max_depth;
-      if (distribution == Distribution::routed && options.mode == Mode::path) {
-        throw std::invalid_argument(
-            "--distribution routed: expected a mode other than path (the path tracer's bounces "
-            "differ between the ranks' tiles; use split or replicated)");
-      }
     } catch (const SceneError& e) {
       mine = {kExitUsage, e.what()};
     } catch (const std::invalid_argument& e) {

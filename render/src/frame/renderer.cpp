@@ -460,7 +460,10 @@ Image render(const Scene& scene, const RayQueries& queries, const RenderOptions&
   const Camera camera(scene.camera, options.width, options.height);
   const Shader<float> shader(scene, scene.spheres.view(), options.mode,
                              depth_scale(scene.camera.lookfrom, scene.camera.lookat));
-  return trace_frame(camera, queries, shader, queries.collective(), options, progress, stats);
+  Image image =
+      trace_frame(camera, queries, shader, queries.collective(), options, progress, stats);
+  if (queries.collective()) queries.finish();
+  return image;
 }
 
 }  // namespace sphray::render

@@ -87,12 +87,26 @@ static_assert(kWavefront * kSamplesPerPass - 1 <=
                   std::numeric_limits<decltype(PathRecord::slot)>::max(),
               "a path's entry must fit PathRecord::slot");
 
+// One tile's pass (samples [first, first + count) of its pixels) in a wavefront: where its
+// paths stand between rounds.
+struct TilePass {
+  Tile tile{};
+  std::uint32_t first = 0, count = 0;
+  std::size_t paths = 0;     // the pass's paths: the tile's pixels times count
+  std::size_t next = 0;      // the next path to start
+  std::size_t bouncing = 0;  // the round's paths that were live before it: lanes [0, bouncing)
+  std::uint64_t rays = 0;    // traced so far
+  int round = 0;
+};
+
 // Traces samples [first, first + count) of every pixel of one tile, all of their paths through
 // one wavefront: per round one stream call over the live paths, then each hit adds sky light or
 // scatters. A path's light goes to its own entry (sample, pixel) and the entries are summed in
 // sample order at the end, so a pixel's sum has the same bits as one sample at a time. Paths
 // that end leave their lanes to the next samples' paths: the wavefront stays full until the
-// last paths start. Fixed-size buffers for the rays, and the thread's own for the light's entries.
+// last paths start. Fixed-size buffers for the rays, and the thread's own for the light's
+// entries. The rounds are steps of their own (begin, start_round, end_round, end) for a caller
+// that advances several tiles together (TileGroup).
 class TileTracer {
  public:
   TileTracer(const Scene& scene, const Camera& camera, const RayQueries& queries,
@@ -113,41 +127,61 @@ class TileTracer {
     // calls runs another tile's task on this thread: the kernel's queries start no tasks.)
     thread_local const std::unique_ptr<Wavefront> wavefront = std::make_unique<Wavefront>();
     Wavefront& w = *wavefront;
-    w.live = 0;
-    const std::size_t pixels = tile.pixels();
-    const std::size_t paths = pixels * count;
     // A path's entry is zeroed when it starts (start_paths), so the thread's buffer, allocated
     // once, is taken as it is.
     thread_local std::vector<Vec3> entries;
-    if (entries.size() < paths) entries.resize(kWavefront * kSamplesPerPass);
+    if (entries.empty()) entries.resize(kPassEntries);
     Vec3* const radiance = entries.data();
-    std::size_t next = 0;  // the next path to start
+    TilePass pass = begin(tile, first, count, w);
     std::int64_t kernel_ns = 0;
-    std::uint64_t rays = 0;
-    for (int round = 0;; ++round) {
-      const std::size_t bouncing = w.live;
-      start_paths(tile, first, paths, next, radiance, w);
-      if (w.live == 0) break;
+    while (start_round(pass, radiance, w)) {
       const auto kernel_start = Clock::now();
       // The new paths' camera rays in a call of their own: the kernel looks for coherent groups
       // of rays from a call's start, and camera rays from neighbouring pixels are (bvh packets).
-      intersect(w, 0, bouncing);
-      intersect(w, bouncing, w.live);
+      intersect(w, 0, pass.bouncing);
+      intersect(w, pass.bouncing, w.live);
       kernel_ns +=
           std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - kernel_start).count();
-      if (recorder != nullptr) (*recorder)(round, std::span(w.rays.data(), w.live));
-      rays += w.live;
-      passes_.shade(w, table_, scene_.sky, radiance);
+      end_round(pass, radiance, w, recorder);
     }
-    for (std::size_t sample = 0; sample < count; ++sample) {
-      for (std::size_t i = 0; i < pixels; ++i)
-        sums[i] += radiance[sample * pixels + i];
-    }
-    counters.camera += paths;
-    counters.bounce += rays - paths;
+    end(pass, radiance, sums, counters);
     counters.kernel_ns += kernel_ns;
     counters.trace_ns +=
         std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - tile_start).count();
+  }
+
+  // The entries a pass's light needs at most: a tile's pixels times kSamplesPerPass.
+  static constexpr std::size_t kPassEntries = kWavefront * kSamplesPerPass;
+
+  TilePass begin(const Tile& tile, std::uint32_t first, std::uint32_t count, Wavefront& w) const {
+    w.live = 0;
+    return {tile, first, count, tile.pixels() * count};
+  }
+
+  // Starts the round's new paths behind the live ones; false when the pass has none left.
+  bool start_round(TilePass& pass, Vec3* radiance, Wavefront& w) const {
+    pass.bouncing = w.live;
+    start_paths(pass.tile, pass.first, pass.paths, pass.next, radiance, w);
+    return w.live > 0;
+  }
+
+  // Ends the round, the live paths' hits known: shades them.
+  void end_round(TilePass& pass, Vec3* radiance, Wavefront& w, const Recorder* recorder) const {
+    if (recorder != nullptr) (*recorder)(pass.round, std::span(w.rays.data(), w.live));
+    pass.rays += w.live;
+    ++pass.round;
+    passes_.shade(w, table_, scene_.sky, radiance);
+  }
+
+  // Adds the ended pass's light to the tile's sums, in sample order, and counts its rays.
+  void end(const TilePass& pass, const Vec3* radiance, Vec3* sums, Counters& counters) const {
+    const std::size_t pixels = pass.tile.pixels();
+    for (std::size_t sample = 0; sample < pass.count; ++sample) {
+      for (std::size_t i = 0; i < pixels; ++i)
+        sums[i] += radiance[sample * pixels + i];
+    }
+    counters.camera += pass.paths;
+    counters.bounce += pass.rays - pass.paths;
   }
 
  private:
@@ -220,6 +254,84 @@ class TileTracer {
   std::uint64_t seed_hash_;
 };
 
+// Collective queries: a process's tiles traced kGroupTiles at a time, each in a wavefront of its
+// own, all of their live paths in one call a round. A process then makes as many calls as its
+// group has rounds, whatever the number of its tiles, and each call is a batch large enough
+// for the exchanges between processes to pay. A tile's paths get the same rays and hits as
+// traced alone, so the image is the same bit for bit.
+class TileGroup {
+ public:
+  static constexpr std::size_t kGroupTiles = 64;
+
+  explicit TileGroup(std::size_t tiles) : slots_(std::min(tiles, kGroupTiles)) {
+    for (Slot& slot : slots_)
+      slot.entries.resize(TileTracer::kPassEntries);
+    rays_.resize(slots_.size() * kWavefront);
+    hits_.resize(slots_.size() * kWavefront);
+  }
+
+  // Traces samples [first, first + count) of the tiles of options.share, adding tile t's light
+  // to sums[t * kTilePixels, ...); done() as each tile's pass ends.
+  template <class Done>
+  void trace(const TileTracer& tracer, const RayQueries& queries, const RenderOptions& options,
+             std::uint32_t first, std::uint32_t count, Vec3* sums, Counters& counters,
+             Done&& done) {
+    const std::size_t tiles = options.share.size(tile_count(options.width, options.height));
+    const auto start = Clock::now();
+    std::int64_t kernel_ns = 0;
+    std::size_t next = 0;  // the next tile to begin
+    for (;;) {
+      std::size_t live = 0;
+      for (Slot& slot : slots_) {
+        // A slot whose pass has ended takes the next tile, until none is left.
+        while (!slot.busy || !tracer.start_round(slot.pass, slot.entries.data(), *slot.w)) {
+          if (slot.busy) {
+            tracer.end(slot.pass, slot.entries.data(), sums + slot.tile * kTilePixels, counters);
+            slot.busy = false;
+            done();
+          }
+          if (next == tiles) break;
+          slot.tile = options.share.tile(next++);
+          slot.pass = tracer.begin(tile_at(slot.tile, options.width, options.height), first, count,
+                                   *slot.w);
+          slot.busy = true;
+        }
+        if (slot.busy) {
+          std::copy_n(slot.w->rays.data(), slot.w->live, rays_.data() + live);
+          live += slot.w->live;
+        }
+      }
+      if (live == 0) break;
+      const auto kernel_start = Clock::now();
+      queries.intersect(std::span(rays_.data(), live), std::span(hits_.data(), live));
+      kernel_ns +=
+          std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - kernel_start).count();
+      live = 0;
+      for (Slot& slot : slots_) {
+        if (!slot.busy) continue;
+        std::copy_n(hits_.data() + live, slot.w->live, slot.w->hits.data());
+        live += slot.w->live;
+        tracer.end_round(slot.pass, slot.entries.data(), *slot.w, nullptr);
+      }
+    }
+    counters.kernel_ns += kernel_ns;
+    counters.trace_ns +=
+        std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - start).count();
+  }
+
+ private:
+  struct Slot {
+    std::unique_ptr<Wavefront> w = std::make_unique<Wavefront>();  // zeroed, as a thread's
+    std::vector<Vec3> entries;
+    TilePass pass;
+    std::size_t tile = 0;
+    bool busy = false;
+  };
+  std::vector<Slot> slots_;
+  std::vector<Ray> rays_;  // the group's live rays, slot after slot
+  std::vector<Hit> hits_;
+};
+
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -259,12 +371,12 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RayQueries& queries,
     throw std::invalid_argument(
         "time limit: not with queries shared between processes (their clocks differ)");
   }
-  if (queries.collective() && options.share.count > 1) {
+  if (queries.collective() && options.share.count > 1 && !queries.uneven_calls()) {
     // A tile's rounds depend on its paths: processes with different tiles would make
-    // different calls.
+    // different numbers of calls.
     throw std::invalid_argument(
         "tile share: path mode with queries shared between processes renders the whole image "
-        "on every process");
+        "on every process, unless the queries take uneven calls (routed)");
   }
   const Camera camera(scene.camera, options.width, options.height);
   const TileTracer tracer(scene, camera, queries, options);
@@ -274,14 +386,17 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RayQueries& queries,
   std::vector<Vec3> sums(tiles * kTilePixels, Vec3{0, 0, 0});
   Counters counters;
   const std::size_t total = mine * static_cast<std::size_t>(options.spp);
+  const auto tile_done = [&](std::uint32_t count) {
+    const std::size_t done = counters.tiles_done += count;  // tiles times samples
+    if (progress) progress(done, total, counters.rays());
+  };
   const auto trace_tiles = [&](std::uint32_t first, std::uint32_t count, std::size_t begin,
                                std::size_t end) {
     for (std::size_t k = begin; k != end; ++k) {
       const std::size_t t = options.share.tile(k);
       tracer.trace(tile_at(t, options.width, options.height), first, count, &sums[t * kTilePixels],
                    counters, nullptr);
-      const std::size_t done = counters.tiles_done += count;  // tiles times samples
-      if (progress) progress(done, total, counters.rays());
+      tile_done(count);
     }
   };
 
@@ -292,12 +407,16 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RayQueries& queries,
   const auto start = Clock::now();
   int passes = 0;  // the samples traced so far
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  const std::unique_ptr<TileGroup> group =
+      queries.collective() ? std::make_unique<TileGroup>(mine) : nullptr;
   while (passes < options.spp) {
     const auto first = static_cast<std::uint32_t>(passes);
     const auto count = static_cast<std::uint32_t>(
         samples_in_next_pass(passes, options.spp, seconds_since(start), options.time_limit));
     if (queries.collective()) {
-      trace_tiles(first, count, 0, mine);  // every process the same calls in the same order
+      // Every process its group's calls, one a round, then finish() below.
+      group->trace(tracer, queries, options, first, count, sums.data(), counters,
+                   [&] { tile_done(count); });
     } else {
       trace_tiles_in(arena, mine, [&](std::size_t begin, std::size_t end) {
         trace_tiles(first, count, begin, end);
@@ -306,6 +425,7 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RayQueries& queries,
     passes += static_cast<int>(count);
     if (options.time_limit > 0.0 && seconds_since(start) >= options.time_limit) break;
   }
+  if (queries.collective()) queries.finish();
   const double seconds = seconds_since(start);
 
   std::vector<Vec3> image(static_cast<std::size_t>(options.width) *

@@ -17,11 +17,13 @@
 // counters and scratch for its queries: call them from one thread at a time.
 //
 // The routed queries (intersect_routed, occluded_routed) take each rank's own rays instead:
-// every rank calls them, in the same order, but with its own batch of any size (0 included). A
+// every rank calls them, in the same order, but with its own batch of any size (0 included);
+// ranks whose numbers of calls differ each end theirs with finish_routed(). A
 // ray goes only to the ranks whose region (the box around their spheres, regions.hpp) its
 // segment crosses, front to back, carrying the nearest hit so far, which bounds the next
 // rank's search and skips the regions that start beyond it; the answer returns to the rank that
-// asked. Exchanges are sparse (MPI_Alltoallv of the travelling rays), one per wave of visits
+// asked. Exchanges are sparse (the rays a rank sends another, point to point on the scene's own
+// communicator, a duplicate of comm's), one per wave of visits
 // for the whole batch. Same answers, bit for bit, as the shared-batch queries.
 #pragma once
 
@@ -39,7 +41,9 @@
 namespace sphray::mpi {
 namespace detail {
 struct RouteBuffers;
-}
+struct Travelling;
+enum class Query : int;
+}  // namespace detail
 
 /// Seconds spent, summed over the queries so far on this rank.
 struct QueryTimes {
@@ -85,6 +89,12 @@ class DistributedScene {
   void intersect_routed(std::span<const Ray> rays, std::span<Hit> hits) const;
   /// As occluded, for this rank's own rays (collective, each rank its own batch).
   void occluded_routed(std::span<const Ray> rays, std::span<bool> out) const;
+  /// For ranks that make different numbers of routed calls (a path tracer's bounces differ
+  /// between the ranks' tiles): a rank that has made its last one calls this, which takes part
+  /// in the other ranks' calls, answering the rays sent to its region, until every rank has
+  /// called it; then it returns on every rank. Collective. Throws std::logic_error on every
+  /// rank when, at one step, some ranks call intersect_routed and others occluded_routed.
+  void finish_routed() const;
   /// The region of every rank, in rank order.
   std::span<const RegionBox> regions() const { return regions_; }
   const RouteCounts& route_counts() const { return counts_; }
@@ -101,12 +111,12 @@ class DistributedScene {
  private:
   template <typename Local, typename Reduce>
   void timed(Local&& local, Reduce&& reduce) const;
-  template <typename Visit>
-  void route(std::span<const Ray> rays, Visit&& visit, bool stop_at_hit,
-             std::span<Hit> answers) const;
+  bool route(std::span<const Ray> rays, detail::Query query, std::span<Hit> answers) const;
+  void visit(std::span<detail::Travelling> arrivals, detail::Query query) const;
 
   MPI_Comm comm_;
-  std::vector<std::uint32_t> ids_;  // global ids, ascending: local id i is global ids_[i]
+  MPI_Comm route_comm_ = MPI_COMM_NULL;  // comm's duplicate: the routed records' messages
+  std::vector<std::uint32_t> ids_;       // global ids, ascending: local id i is global ids_[i]
   SphereBVH bvh_;
   std::size_t global_size_ = 0;
   double build_seconds_ = 0;

@@ -4,6 +4,7 @@
 // here: the same order serves the ranks and a single process that plays them (a simulation).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -50,13 +51,34 @@ constexpr bool operator<(const RegionKey& a, const RegionKey& b) {
 RegionKey next_region(std::span<const RegionBox> regions, const Ray& ray, float bound,
                       RegionKey after);
 
+/// next_region's answer, and where the region after it is entered (the next key's entry after
+/// it, for the same bound): infinity when none. A ray carries `then` to its next region, so
+/// that once its nearest hit there is known, one comparison with reach() tells whether any
+/// region is left before the hit, without another search.
+struct RegionSteps {
+  RegionKey next{std::numeric_limits<float>::infinity(), -1};
+  float then = std::numeric_limits<float>::infinity();
+};
+RegionSteps next_regions(std::span<const RegionBox> regions, const Ray& ray, float bound,
+                         RegionKey after);
+
+/// How far next_region looks along the ray for a bound: the bound widened by kRegionSlack. A
+/// region entered beyond it is not visited. NaN for an invalid ray.
+float reach(const Ray& ray, float bound);
+
 /// The ray a region searches when the nearest hit so far is best: bounded one float step past
 /// it, since the kernel's interval is open and a sphere at the same t with a lower id must
 /// still be found. The ray itself before any hit.
-Ray bounded_by(const Ray& ray, const Hit& best);
+inline Ray bounded_by(const Ray& ray, const Hit& best) {
+  Ray bounded = ray;
+  if (best.found()) bounded.tmax = std::nextafter(best.t, std::numeric_limits<float>::infinity());
+  return bounded;
+}
 
 /// best becomes hit (a found hit, global id) when hit is nearer: a smaller t, or the same t
 /// and a lower id, the kernel's order.
-void keep_nearer(Hit& best, const Hit& hit);
+inline void keep_nearer(Hit& best, const Hit& hit) {
+  if (hit.t < best.t || (hit.t == best.t && hit.id < best.id)) best = hit;
+}
 
 }  // namespace sphray::mpi

@@ -21,10 +21,17 @@ class RayQueries {
   /// renderer then traces on the calling thread and refuses a time limit (a clock is not the
   /// same on all). Outside path mode it traces all the tiles of its share together, one call a
   /// sample (and one for the shadow rays), so that every process makes the same calls whatever
-  /// its share: the batches may differ between processes (each its own tiles' rays). Path
-  /// mode traces tile by tile, each tile's rounds as they come: every process must have the
-  /// same share, hence the same batches.
+  /// its share: the batches may differ between processes (each its own tiles' rays). Path mode
+  /// traces a group of tiles together, one call a bounce, and the number of bounces depends on
+  /// the paths: with a share of the tiles, it needs uneven_calls().
   virtual bool collective() const { return false; }
+  /// Collective queries only: true when the processes may make different numbers of calls,
+  /// each ending its own with finish(). The renderer calls finish() once at the end of every
+  /// frame it traces with collective queries.
+  virtual bool uneven_calls() const { return false; }
+  /// With uneven_calls(): takes part in the other processes' calls until every process has
+  /// called finish().
+  virtual void finish() const {}
 };
 
 }  // namespace sphray::render
