@@ -39,8 +39,8 @@ namespace {
 
 // Splits ids[begin, end) between ranks [first, first + count): the ranks below count / 2 get
 // the spheres below the cut along the longest axis of their centres' box, in proportion.
-void split_by_planes(SphereView spheres, std::vector<std::uint32_t>& ids, std::size_t begin,
-                     std::size_t end, int first, int count, int only,
+void split_by_planes(SphereView spheres, Vec3 weights, std::vector<std::uint32_t>& ids,
+                     std::size_t begin, std::size_t end, int first, int count, int only,
                      std::vector<std::vector<std::uint32_t>>& shares) {
   if (count == 1) {
     shares[static_cast<std::size_t>(first)].assign(ids.begin() + static_cast<std::ptrdiff_t>(begin),
@@ -56,9 +56,10 @@ void split_by_planes(SphereView spheres, std::vector<std::uint32_t>& ids, std::s
       lo[k] = std::min(lo[k], axes[k][ids[i]]);
       hi[k] = std::max(hi[k], axes[k][ids[i]]);
     }
+  const float weight[3] = {weights.x, weights.y, weights.z};
   int axis = 0;
   for (int k = 1; k < 3; ++k)
-    if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
+    if ((hi[k] - lo[k]) * weight[k] > (hi[axis] - lo[axis]) * weight[axis]) axis = k;
   const int left = count / 2;
   const std::size_t cut =
       begin + (end - begin) * static_cast<std::size_t>(left) / static_cast<std::size_t>(count);
@@ -71,13 +72,14 @@ void split_by_planes(SphereView spheres, std::vector<std::uint32_t>& ids, std::s
                    });
   // only >= 0: the share of that rank alone, so the other side is never split further.
   if (only < 0 || only < first + left)
-    split_by_planes(spheres, ids, begin, cut, first, left, only, shares);
+    split_by_planes(spheres, weights, ids, begin, cut, first, left, only, shares);
   if (only < 0 || only >= first + left)
-    split_by_planes(spheres, ids, cut, end, first + left, count - left, only, shares);
+    split_by_planes(spheres, weights, ids, cut, end, first + left, count - left, only, shares);
 }
 
 // The shares of every rank (only < 0) or of rank `only` alone (the others left empty).
-std::vector<std::vector<std::uint32_t>> split_shares(SphereView spheres, int ranks, int only) {
+std::vector<std::vector<std::uint32_t>> split_shares(SphereView spheres, Vec3 weights, int ranks,
+                                                     int only) {
   // Spheres with a NaN or infinite centre go with rank 0, as in spatial_share.
   std::vector<std::uint32_t> finite, other;
   for (std::size_t i = 0; i < spheres.count; ++i) {
@@ -86,7 +88,7 @@ std::vector<std::vector<std::uint32_t>> split_shares(SphereView spheres, int ran
     (ok ? finite : other).push_back(static_cast<std::uint32_t>(i));
   }
   std::vector<std::vector<std::uint32_t>> shares(static_cast<std::size_t>(ranks));
-  split_by_planes(spheres, finite, 0, finite.size(), 0, ranks, only, shares);
+  split_by_planes(spheres, weights, finite, 0, finite.size(), 0, ranks, only, shares);
   if (only <= 0) {
     shares[0].insert(shares[0].end(), other.begin(), other.end());
     std::sort(shares[0].begin(), shares[0].end());
@@ -96,15 +98,15 @@ std::vector<std::vector<std::uint32_t>> split_shares(SphereView spheres, int ran
 
 }  // namespace
 
-std::vector<std::vector<std::uint32_t>> plane_shares(SphereView spheres, int ranks) {
+std::vector<std::vector<std::uint32_t>> plane_shares(SphereView spheres, int ranks, Vec3 weights) {
   if (ranks < 1) throw std::invalid_argument("plane_shares: expected ranks >= 1");
-  return split_shares(spheres, ranks, -1);
+  return split_shares(spheres, weights, ranks, -1);
 }
 
-std::vector<std::uint32_t> plane_share(SphereView spheres, int rank, int ranks) {
+std::vector<std::uint32_t> plane_share(SphereView spheres, int rank, int ranks, Vec3 weights) {
   if (ranks < 1 || rank < 0 || rank >= ranks)
     throw std::invalid_argument("plane_share: expected 0 <= rank < ranks");
-  return std::move(split_shares(spheres, ranks, rank)[static_cast<std::size_t>(rank)]);
+  return std::move(split_shares(spheres, weights, ranks, rank)[static_cast<std::size_t>(rank)]);
 }
 
 std::vector<std::vector<std::uint32_t>> spatial_shares(SphereView spheres, int ranks) {

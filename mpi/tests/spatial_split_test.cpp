@@ -59,13 +59,19 @@ TEST(MpiSpatialSplit, EverySphereHasOneRankAndRanksOwnCompactRegions) {
   EXPECT_THROW(sphray::mpi::spatial_share(spheres.view(), 2, 2), std::invalid_argument);
 }
 
-TEST(MpiSpatialSplit, PlaneSharesAreDisjointBoxesOfEqualCounts) {
-  std::mt19937 rng(4);
+// n small spheres in the box [0, 10] x [0, 20] x [0, 10].
+sphray::SphereSoA tall_box(int n, unsigned seed) {
+  std::mt19937 rng(seed);
   sphray::SphereSoA spheres;
-  for (int i = 0; i < 5000; ++i) {
+  for (int i = 0; i < n; ++i) {
     const auto coordinate = [&] { return static_cast<float>(rng() % 100000) * 1e-4f; };
     spheres.add({coordinate(), 2 * coordinate(), coordinate()}, 0.01f);
   }
+  return spheres;
+}
+
+TEST(MpiSpatialSplit, PlaneSharesAreDisjointBoxesOfEqualCounts) {
+  sphray::SphereSoA spheres = tall_box(5000, 4);
   spheres.set(17, {std::numeric_limits<float>::quiet_NaN(), 0, 0}, 0.1f);
   for (int ranks : {1, 2, 3, 5, 8, 13}) {
     const auto shares = sphray::mpi::plane_shares(spheres.view(), ranks);
@@ -87,6 +93,34 @@ TEST(MpiSpatialSplit, PlaneSharesAreDisjointBoxesOfEqualCounts) {
   }
   EXPECT_THROW(sphray::mpi::plane_shares(spheres.view(), 0), std::invalid_argument);
   EXPECT_THROW(sphray::mpi::plane_share(spheres.view(), 3, 3), std::invalid_argument);
+}
+
+// Weights choose the axes of the cuts: the scene is longest along y, but weighted by a camera
+// whose rows run along z, every cut is across z, and each share is a slab of it.
+TEST(MpiSpatialSplit, WeightsChooseTheAxisOfTheCuts) {
+  const sphray::SphereSoA spheres = tall_box(4000, 5);
+  for (int ranks : {2, 4}) {
+    const auto shares = sphray::mpi::plane_shares(spheres.view(), ranks, {0, 0, 1});
+    float previous_high = -1.0f;
+    for (int rank = 0; rank < ranks; ++rank) {
+      const auto& ids = shares[static_cast<std::size_t>(rank)];
+      EXPECT_EQ(ids, sphray::mpi::plane_share(spheres.view(), rank, ranks, {0, 0, 1}));
+      float low = INFINITY, high = -INFINITY;
+      for (std::uint32_t id : ids) {
+        low = std::min(low, spheres.center(id).z);
+        high = std::max(high, spheres.center(id).z);
+      }
+      EXPECT_GE(low, previous_high) << "rank " << rank << " of " << ranks;  // slabs in z order
+      previous_high = high;
+    }
+  }
+  // Unweighted, the first cut is across y, the longest axis: rank 0 keeps the low half of y.
+  const auto halves = sphray::mpi::plane_shares(spheres.view(), 2);
+  float high = -INFINITY;
+  for (std::uint32_t id : halves[0])
+    high = std::max(high, spheres.center(id).y);
+  for (std::uint32_t id : halves[1])
+    EXPECT_GE(spheres.center(id).y, high);
 }
 
 }  // namespace

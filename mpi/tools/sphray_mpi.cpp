@@ -157,10 +157,19 @@ class DistributedQueries final : public RayQueries {
 };
 
 // The scene's spheres this rank keeps, with their ids in the scene: its cell of a split by
-// planes, whose regions overlap least. Throws std::bad_alloc.
+// planes, whose regions overlap least, cut across the camera's view: along its horizontal axis,
+// so that every row of the image crosses every region (docs/distributed.md, "Cut across the
+// view"). Throws std::bad_alloc.
 void take_share(const Scene& scene, MPI_Comm comm, sphray::SphereSoA& mine,
                 std::vector<std::uint32_t>& ids) {
-  ids = sphray::mpi::plane_share(scene.spheres.view(), rank_of(comm), size_of(comm));
+  const CameraSpec& camera = scene.camera;
+  const sphray::Vec3 across =
+      sphray::normalize(sphray::cross(camera.vup, camera.lookfrom - camera.lookat));
+  const bool usable = std::isfinite(across.x) && std::isfinite(across.y) && std::isfinite(across.z);
+  const sphray::Vec3 weights =
+      usable ? sphray::Vec3{std::abs(across.x), std::abs(across.y), std::abs(across.z)}
+             : sphray::Vec3{1, 1, 1};
+  ids = sphray::mpi::plane_share(scene.spheres.view(), rank_of(comm), size_of(comm), weights);
   mine.reserve(ids.size());
   for (std::uint32_t id : ids)
     mine.add(scene.spheres.center(id), scene.spheres.radius(id), scene.spheres.mask(id));
@@ -200,6 +209,8 @@ void print_summary(const RenderArgs& args, const RenderOptions& options, const R
   MPI_Reduce(times, slowest, 2, MPI_DOUBLE, MPI_MAX, 0, comm);
   MPI_Reduce(&bytes, &largest, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, 0, comm);
   MPI_Reduce(rays, all, 4, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, comm);
+  unsigned long long busiest = 0;  // the most rays one rank traced in its tree
+  MPI_Reduce(&rays[3], &busiest, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, 0, comm);
   if (rank_of(comm) != 0 || args.quiet) return;
   if (!routed) std::copy(rays, rays + 3, all);
   const double total = static_cast<double>(all[0] + all[1] + all[2]);
@@ -211,8 +222,11 @@ void print_summary(const RenderArgs& args, const RenderOptions& options, const R
       size_of(comm), routed ? " (routed)" : "", seconds, seconds > 0 ? total / seconds : 0.0,
       all[0], all[1], all[2], scene.global_size(), largest, slowest[0],
       routed ? "exchanges" : "reductions");
-  if (routed)
-    std::printf("; %.3f rays traced in the trees a ray", total > 0 ? all[3] / total : 0.0);
+  if (routed) {
+    std::printf("; %.3f rays traced in the trees a ray, %.3f in the busiest rank's",
+                total > 0 ? static_cast<double>(all[3]) / total : 0.0,
+                total > 0 ? static_cast<double>(busiest) / total : 0.0);
+  }
   std::printf("\n");
 }
 

@@ -95,9 +95,11 @@ TEST(CollectiveFrames, PathModeTracesTilesTogether) {
   EXPECT_GT(queries.largest, std::size_t{256} * 16);
 }
 
-TEST(CollectiveFrames, PathModeSharesNeedUnevenCalls) {
+// A share of the tiles makes its own number of calls (in path mode, its paths decide):
+// refused with queries that need every process to make the same calls.
+TEST_P(CollectiveFrames, SharesNeedUnevenCalls) {
   const Scene scene = make_preset("rtiow-final");
-  RenderOptions o = options_for(Mode::path);
+  RenderOptions o = options_for(GetParam());
   o.share = TileShare{0, 2};
   const CountingQueries queries(scene, /*uneven=*/false);
   EXPECT_THROW(render(scene, queries, o), std::invalid_argument);

@@ -241,8 +241,8 @@ std::uint64_t trace_shadows(const Shader<S>& shader, const Queries& queries, std
 
 // Renders the pixels of rects into image: per sample, their camera rays go to the kernel as
 // one stream (in shaded mode, then their shadow rays as another), then each hit is shaded and
-// summed. One tile's rects trace from the stack; a collective frame traces all of a process's
-// tiles together, one call a sample. Returns the shadow rays traced.
+// summed. One tile's rects trace from the stack; a collective frame traces a group of a
+// process's tiles together, one call a sample. Returns the shadow rays traced.
 template <Scalar S, class Queries>
 std::uint64_t render_rects(std::span<const TileRect> rects, const BasicCamera<S>& camera,
                            const Queries& queries, const Shader<S>& shader,
@@ -312,17 +312,21 @@ Image trace_frame(const BasicCamera<S>& camera, const Queries& queries, const Sh
   if (progress) progress(0, tiles, {});  // the tracing starts: any tree is built by now
   auto start = std::chrono::steady_clock::now();
   if (collective) {
-    // Every process the same calls in the same order, one a sample (and one for its shadow
-    // rays) for all the tiles of its share together, whatever the share's size.
+    // The share's tiles kGroupTiles at a time, one call a sample for each group (and one for
+    // its shadow rays). Processes with shares of other sizes make other numbers of calls: the
+    // queries take uneven calls (checked by render()), and the frame ends with finish().
     std::vector<TileRect> rects;
     for (std::size_t k = 0; k < tiles; ++k)
       rects.push_back(tile_rect(options.share.tile(k), options.width, options.height));
-    ShareScratch<S> scratch(pixels_in(rects));
-    shadow_rays += render_rects(std::span<const TileRect>(rects), camera, queries, shader, options,
-                                scratch.spans(), image);
-    camera_rays += pixels_in(rects) * static_cast<std::uint64_t>(options.spp);
-    done = tiles;
-    if (progress) progress(tiles, tiles, {camera_rays, 0, shadow_rays});
+    ShareScratch<S> scratch(std::min(tiles, kGroupTiles) * kTilePixels);
+    for (std::size_t begin = 0; begin < tiles; begin += kGroupTiles) {
+      const auto group =
+          std::span<const TileRect>(rects).subspan(begin, std::min(kGroupTiles, tiles - begin));
+      shadow_rays += render_rects(group, camera, queries, shader, options, scratch.spans(), image);
+      camera_rays += pixels_in(group) * static_cast<std::uint64_t>(options.spp);
+      done += group.size();
+      if (progress) progress(done, tiles, {camera_rays, 0, shadow_rays});
+    }
   } else {
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     trace_tiles_in(arena, tiles, render_tiles);
@@ -457,6 +461,12 @@ Image render(const Scene& scene, const RayQueries& queries, const RenderOptions&
         "precision: expected float with the caller's queries (they answer float rays)");
   }
   if (options.mode == Mode::path) return render_path(scene, queries, options, progress, stats);
+  if (queries.collective() && options.share.count > 1 && !queries.uneven_calls()) {
+    // Processes with shares of other sizes would make different numbers of calls.
+    throw std::invalid_argument(
+        "tile share: queries shared between processes render the whole image on every "
+        "process, unless they take uneven calls (routed)");
+  }
   const Camera camera(scene.camera, options.width, options.height);
   const Shader<float> shader(scene, scene.spheres.view(), options.mode,
                              depth_scale(scene.camera.lookfrom, scene.camera.lookat));

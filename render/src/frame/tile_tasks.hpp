@@ -28,6 +28,11 @@
 
 namespace sphray::render {
 
+/// Under collective queries, the most tiles a process traces together, one call a sample (or
+/// a bounce, in path mode): 16,384 rays, enough for the exchanges between processes to pay,
+/// few enough for the group's rays and hits to stay in the caches.
+inline constexpr std::size_t kGroupTiles = 64;
+
 /// Runs trace(begin, end) over ranges covering [0, tiles), one tile per task at the finest, on
 /// the arena's threads, and returns when every range is done.
 template <class Trace>

@@ -261,8 +261,6 @@ class TileTracer {
 // traced alone, so the image is the same bit for bit.
 class TileGroup {
  public:
-  static constexpr std::size_t kGroupTiles = 64;
-
   explicit TileGroup(std::size_t tiles) : slots_(std::min(tiles, kGroupTiles)) {
     for (Slot& slot : slots_)
       slot.entries.resize(TileTracer::kPassEntries);

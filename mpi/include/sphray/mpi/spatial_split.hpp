@@ -29,9 +29,16 @@ std::vector<std::vector<std::uint32_t>> spatial_shares(SphereView spheres, int r
 /// only by the spheres' radii, where runs of a Morton curve cut at other than powers of eight
 /// straddle cells and their boxes overlap widely. Each share ascending; non-finite centres go
 /// with rank 0.
-std::vector<std::vector<std::uint32_t>> plane_shares(SphereView spheres, int ranks);
+///
+/// weights: how much each axis's extent counts when a cut chooses its axis (the longest
+/// weighted extent is cut; ties go to the lower axis). A renderer passes the absolute
+/// components of its camera's horizontal axis, so that the cuts run across the image and every
+/// row of the image crosses every region (docs/distributed.md, "Cut across the view").
+std::vector<std::vector<std::uint32_t>> plane_shares(SphereView spheres, int ranks,
+                                                     Vec3 weights = {1, 1, 1});
 
 /// Rank `rank`'s share of plane_shares alone: only the cells on its side are split further.
-std::vector<std::uint32_t> plane_share(SphereView spheres, int rank, int ranks);
+std::vector<std::uint32_t> plane_share(SphereView spheres, int rank, int ranks,
+                                       Vec3 weights = {1, 1, 1});
 
 }  // namespace sphray::mpi

@@ -19,11 +19,11 @@ class RayQueries {
   virtual void occluded(std::span<const Ray> rays, std::span<bool> out) const = 0;
   /// True when every call is collective: made by every process, in the same order. The
   /// renderer then traces on the calling thread and refuses a time limit (a clock is not the
-  /// same on all). Outside path mode it traces all the tiles of its share together, one call a
-  /// sample (and one for the shadow rays), so that every process makes the same calls whatever
-  /// its share: the batches may differ between processes (each its own tiles' rays). Path mode
-  /// traces a group of tiles together, one call a bounce, and the number of bounces depends on
-  /// the paths: with a share of the tiles, it needs uneven_calls().
+  /// same on all). It traces the tiles of its share in groups of 64, each group one call a
+  /// sample (and one for the shadow rays), or in path mode one call a bounce, the paths of all
+  /// the group's tiles together; the batches differ between processes (each its own tiles'
+  /// rays). With a share of the tiles, processes make different numbers of calls: the renderer
+  /// refuses it unless uneven_calls().
   virtual bool collective() const { return false; }
   /// Collective queries only: true when the processes may make different numbers of calls,
   /// each ending its own with finish(). The renderer calls finish() once at the end of every
