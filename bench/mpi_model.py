@@ -11,10 +11,14 @@ one rank (the defaults; docs/distributed.md gives the commands) and stated netwo
 for 10^9 spheres spread over the ranks, and prints rays per second, a markdown table:
 
   shared: T = N t_r + c N t_d(n) + 2 ceil(log2 P) alpha + 16 N beta + 8 N gamma
-  routed: T = v N (t_d(n) + t_route) + v N 60 beta + W (2 ceil(log2 P) alpha + (P - 1) alpha0)
+  routed: T = v N (t_d(n) + t_route) + v N 64 beta
+              + W (3 ceil(log2 P) alpha + 4 P beta + min(P - 1, k) alpha)
 
 c: the busiest rank's crossings a ray; v: its visits a ray; W: exchanges; n = 10^9 / P spheres a
-rank, t_d(n) = t_d log2(n) / log2(4194304) (a tree's depth).
+rank, t_d(n) = t_d log2(n) / log2(4194304) (a tree's depth). A routed wave: the count of rays in
+flight (an allreduce), the counts each rank sends each other (an alltoall of P ints, log2 P
+rounds), and a message to each of the k ranks a rank has records for (at most its region's
+neighbours: k = 26 assumed).
 """
 
 import argparse
@@ -49,10 +53,10 @@ def main(argv):
     ap.add_argument("--t-reject", type=float, default=14e-9, help="t_r: a root's rejection, s")
     ap.add_argument("--t-deep", type=float, default=74e-9,
                     help="t_d: a closest-hit search in 4194304 spheres, s")
-    ap.add_argument("--t-route", type=float, default=17e-9, help="t_route: routing a visit, s")
+    ap.add_argument("--t-route", type=float, default=29e-9, help="t_route: routing a visit, s")
     ap.add_argument("--alpha", type=float, default=2e-6, help="a message's latency, s")
-    ap.add_argument("--alpha0", type=float, default=0.2e-6,
-                    help="an empty message in MPI_Alltoallv, s (assumed)")
+    ap.add_argument("--neighbours", type=int, default=26,
+                    help="k: the ranks a rank sends records to in a wave (assumed)")
     ap.add_argument("--bandwidth", type=float, default=12.5e9, help="bytes/s a link (1/beta)")
     ap.add_argument("--gamma", type=float, default=0.125e-9, help="reduction, s a byte")
     args = ap.parse_args(argv)
@@ -75,8 +79,9 @@ def main(argv):
 
         def routed(terms):
             visits, waves, _ = terms[p]
-            return (visits * N * (t_deep + args.t_route) + visits * N * 60 * beta +
-                    waves * (hops + (p - 1) * args.alpha0))
+            wave = (3 * math.ceil(math.log2(p)) * args.alpha + 4 * p * beta +
+                    min(p - 1, args.neighbours) * args.alpha)
+            return visits * N * (t_deep + args.t_route) + visits * N * 64 * beta + waves * wave
 
         print(f"| {p // 32} | {p} | {n / 1e6:.2f} M | {N / shared:.3g} | "
               f"{N / routed(morton):.3g} | {N / routed(planes):.3g} |")

@@ -11,7 +11,6 @@ apart; the whole commands' wall times are given too (start-up, scene, build and 
 included). Prints a markdown table for docs/distributed.md.
 """
 
-import argparse
 import filecmp
 import os
 import re
@@ -19,6 +18,8 @@ import subprocess
 import sys
 import tempfile
 import time
+
+import mpi_runs
 
 CASES = [
     ("rtiow-final, path", ["-s", "rtiow-final", "-m", "path", "--spp", "64", "-W", "400",
@@ -44,15 +45,8 @@ def run(command):
 
 
 def main(argv):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--build", default="build/release")
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--mpiexec-flags", default="--oversubscribe",
-                    help="extra flags for mpiexec (as root add --allow-run-as-root)")
-    args = ap.parse_args(argv)
-    sphray = os.path.join(args.build, "render", "sphray")
-    sphray_mpi = os.path.join(args.build, "mpi", "sphray-mpi")
-    print(f"load average {os.getloadavg()[0]:.1f} at the start, {os.cpu_count()} cores")
+    args, programs = mpi_runs.parse(__doc__, argv)
+    sphray, sphray_mpi = programs.sphray, programs.sphray_mpi
     print("| scene, mode | 1 process: rays/s | 2 ranks: rays/s | ratio | 1 process: wall s | "
           "2 ranks: wall s | same image |")
     print("|---|---|---|---|---|---|---|")
@@ -62,7 +56,7 @@ def main(argv):
             one, two = [], []
             for _ in range(args.repeats):
                 one.append(run([sphray, "render", *options, "-j", "1", "-o", single]))
-                two.append(run(["mpiexec", *args.mpiexec_flags.split(), "-n", "2", sphray_mpi,
+                two.append(run([*programs.mpiexec, "-n", "2", sphray_mpi,
                                 "render", *options, "--distribution", "replicated", "-j", "1",
                                 "-o", ranks]))
             same = filecmp.cmp(single, ranks, shallow=False)

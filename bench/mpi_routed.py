@@ -13,11 +13,11 @@ Prints a markdown table for
 docs/distributed.md.
 """
 
-import argparse
-import os
 import subprocess
 import sys
 import tempfile
+
+import mpi_runs
 
 RAYS = "4194304"
 
@@ -32,23 +32,14 @@ def bench(command):
 
 
 def main(argv):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--build", default="build/release")
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--mpiexec-flags", default="--oversubscribe",
-                    help="extra flags for mpiexec (as root add --allow-run-as-root)")
-    args = ap.parse_args(argv)
-    sphray_mpi = os.path.join(args.build, "mpi", "sphray-mpi")
-    mpiexec = ["mpiexec", *args.mpiexec_flags.split()]
-    print(f"load average {os.getloadavg()[0]:.1f} at the start, {os.cpu_count()} cores")
+    args, programs = mpi_runs.parse(__doc__, argv)
+    sphray_mpi, mpiexec = programs.sphray_mpi, programs.mpiexec
     print("| view | 1 process: rays/s | 2 ranks, shared: rays/s | 2 ranks, routed: rays/s | "
           "routed / 1 process | busiest rank traced, of all rays | all ranks traced, of all rays "
           "| exchanges a batch |")
     print("|---|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
-        particles = os.path.join(tmp, "r4m.sphp")
-        subprocess.run([sphray_mpi, "generate", "random:4194304", "-o", particles], check=True,
-                       capture_output=True)
+        particles = mpi_runs.particle_file(programs, tmp)
         for axis in ("z", "x", "y"):
             options = [particles, "--rays", RAYS, "--from", axis]
             one, shared, routed = [], [], []

@@ -100,7 +100,8 @@ Image render(const Scene& scene, const RenderOptions& options, const Progress& p
 
 /// The same image, the spheres' hits answered by queries instead of the renderer's own (which
 /// must give the same answers for scene.spheres: the image is then the same bit for bit).
-/// options.accel is not used; stats report no tree.
+/// options.accel is not used; stats report no tree. Collective queries (ray_queries.hpp) with
+/// a share of the tiles must take uneven calls, else std::invalid_argument.
 Image render(const Scene& scene, const RayQueries& queries, const RenderOptions& options,
              const Progress& progress = {}, RenderStats* stats = nullptr);
 
