@@ -461,12 +461,7 @@ Image render(const Scene& scene, const RayQueries& queries, const RenderOptions&
         "precision: expected float with the caller's queries (they answer float rays)");
   }
   if (options.mode == Mode::path) return render_path(scene, queries, options, progress, stats);
-  if (queries.collective() && options.share.count > 1 && !queries.uneven_calls()) {
-    // Processes with shares of other sizes would make different numbers of calls.
-    throw std::invalid_argument(
-        "tile share: queries shared between processes render the whole image on every "
-        "process, unless they take uneven calls (routed)");
-  }
+  check_share(queries, options);
   const Camera camera(scene.camera, options.width, options.height);
   const Shader<float> shader(scene, scene.spheres.view(), options.mode,
                              depth_scale(scene.camera.lookfrom, scene.camera.lookat));

@@ -6,12 +6,24 @@
 
 #include <optional>
 #include <span>
+#include <stdexcept>
 
 #include "sphray/render/ray_queries.hpp"
 #include "sphray/render/renderer.hpp"
 #include "sphray/sphray.hpp"
 
 namespace sphray::render {
+
+/// Refuses, with std::invalid_argument, a share of the tiles with collective queries that need
+/// every process to make the same calls: processes with shares of other sizes would not (and in
+/// path mode, a tile's rounds depend on its paths).
+inline void check_share(const RayQueries& queries, const RenderOptions& options) {
+  if (queries.collective() && options.share.count > 1 && !queries.uneven_calls()) {
+    throw std::invalid_argument(
+        "tile share: queries shared between processes render the whole image on every "
+        "process, unless they take uneven calls (routed)");
+  }
+}
 
 /// The choice, in either precision: a tree or brute force over view.
 template <Scalar S>

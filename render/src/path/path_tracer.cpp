@@ -369,13 +369,7 @@ std::vector<Vec3> render_radiance(const Scene& scene, const RayQueries& queries,
     throw std::invalid_argument(
         "time limit: not with queries shared between processes (their clocks differ)");
   }
-  if (queries.collective() && options.share.count > 1 && !queries.uneven_calls()) {
-    // A tile's rounds depend on its paths: processes with different tiles would make
-    // different numbers of calls.
-    throw std::invalid_argument(
-        "tile share: path mode with queries shared between processes renders the whole image "
-        "on every process, unless the queries take uneven calls (routed)");
-  }
+  check_share(queries, options);
   const Camera camera(scene.camera, options.width, options.height);
   const TileTracer tracer(scene, camera, queries, options);
   const std::size_t tiles = tile_count(options.width, options.height);
