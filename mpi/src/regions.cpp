@@ -6,16 +6,21 @@
 
 namespace sphray::mpi {
 
-RegionBox region_box(SphereView spheres) {
+namespace {
+
+// The padded box around spheres.cx[index(i)] ... for i in [0, n): region_box's rule.
+template <class Index>
+RegionBox padded_box(SphereView spheres, std::size_t n, Index&& index) {
   double lo[3], hi[3];
   for (int k = 0; k < 3; ++k) {
     lo[k] = std::numeric_limits<double>::infinity();
     hi[k] = -std::numeric_limits<double>::infinity();
   }
   bool empty = true;
-  for (std::size_t i = 0; i < spheres.count; ++i) {
-    const double c[3] = {spheres.cx[i], spheres.cy[i], spheres.cz[i]};
-    const double r = spheres.radius[i];
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t s = index(i);
+    const double c[3] = {spheres.cx[s], spheres.cy[s], spheres.cz[s]};
+    const double r = spheres.radius[s];
     if (!(r > 0) || !std::isfinite(r) || !std::isfinite(c[0]) || !std::isfinite(c[1]) ||
         !std::isfinite(c[2]))
       continue;
@@ -37,6 +42,16 @@ RegionBox region_box(SphereView spheres) {
   }
   box.empty = false;
   return box;
+}
+
+}  // namespace
+
+RegionBox region_box(SphereView spheres) {
+  return padded_box(spheres, spheres.count, [](std::size_t i) { return i; });
+}
+
+RegionBox region_box(SphereView spheres, std::span<const std::uint32_t> ids) {
+  return padded_box(spheres, ids.size(), [ids](std::size_t i) { return std::size_t{ids[i]}; });
 }
 
 namespace {

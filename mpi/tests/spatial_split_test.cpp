@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "sphray/mpi/regions.hpp"
 #include "sphray/mpi/spatial_split.hpp"
 
 namespace {
@@ -121,6 +122,62 @@ TEST(MpiSpatialSplit, WeightsChooseTheAxisOfTheCuts) {
     high = std::max(high, spheres.center(id).y);
   for (std::uint32_t id : halves[1])
     EXPECT_GE(spheres.center(id).y, high);
+}
+
+// The fraction of probes that enter shares[0]'s region before shares[1]'s, of those that enter
+// either.
+double first_in_lower(const sphray::SphereSoA& spheres,
+                      const std::vector<std::vector<std::uint32_t>>& shares,
+                      const std::vector<sphray::Ray>& probes) {
+  const sphray::mpi::RegionBox regions[2] = {sphray::mpi::region_box(spheres.view(), shares[0]),
+                                             sphray::mpi::region_box(spheres.view(), shares[1])};
+  double lower = 0, either = 0;
+  for (const sphray::Ray& probe : probes) {
+    const int first = sphray::mpi::next_region(regions, probe, probe.tmax, {}).region;
+    if (first < 0) continue;
+    either += 1;
+    lower += first == 0 ? 1 : 0;
+  }
+  return lower / either;
+}
+
+// Probes (a camera's rays) move the cut to where they divide, not the spheres: seen from above
+// a corner, the upper half of a box is entered first by three rays in four; cut by the rays,
+// each share's region takes half of them, and each keeps at least a quarter of the spheres.
+TEST(MpiSpatialSplit, ProbesBalanceTheRaysNotTheSpheres) {
+  const sphray::SphereSoA spheres = tall_box(4000, 6);
+  std::mt19937 rng(7);
+  std::vector<sphray::Ray> probes;
+  for (int i = 0; i < 1024; ++i) {
+    const auto at = [&](float side) { return static_cast<float>(rng() % 1000) * side * 1e-3f; };
+    const sphray::Vec3 from{30, 40, 30}, to{at(10), at(20), at(10)};
+    probes.push_back(sphray::Ray{from, to - from});
+  }
+  const auto by_count = sphray::mpi::plane_shares(spheres.view(), 2);
+  EXPECT_LT(first_in_lower(spheres, by_count, probes), 0.3);  // the cut is across y
+  const auto by_rays = sphray::mpi::plane_shares(spheres.view(), 2, {1, 1, 1}, probes);
+  EXPECT_NEAR(first_in_lower(spheres, by_rays, probes), 0.5, 0.05);
+  for (const auto& share : by_rays) {
+    EXPECT_GE(share.size(), 1000u);
+    EXPECT_LE(share.size(), 3000u);
+  }
+  EXPECT_EQ(by_rays[1], sphray::mpi::plane_share(spheres.view(), 1, 2, {1, 1, 1}, probes));
+}
+
+// Probes that cannot place a cut leave the cut by count: rays that enter neither side, and
+// centres that do not spread along the axis.
+TEST(MpiSpatialSplit, ProbesThatTellNothingLeaveTheCutByCount) {
+  const sphray::SphereSoA spheres = tall_box(4000, 8);
+  const std::vector<sphray::Ray> away(16, sphray::Ray{{0, -5, 0}, {0, -1, 0}});
+  EXPECT_EQ(sphray::mpi::plane_shares(spheres.view(), 3, {1, 1, 1}, away),
+            sphray::mpi::plane_shares(spheres.view(), 3));
+  sphray::SphereSoA same_place;
+  for (int i = 0; i < 100; ++i)
+    same_place.add({1, 2, 3}, 0.5f + static_cast<float>(i) * 0.01f);
+  const std::vector<sphray::Ray> through(16, sphray::Ray{{-10, 2, 3}, {1, 0, 0}});
+  const auto shares = sphray::mpi::plane_shares(same_place.view(), 2, {1, 1, 1}, through);
+  EXPECT_EQ(shares, sphray::mpi::plane_shares(same_place.view(), 2));
+  EXPECT_EQ(shares[0].size(), 50u);
 }
 
 }  // namespace

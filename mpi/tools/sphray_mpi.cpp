@@ -38,6 +38,7 @@
 #include "sphray/mpi/distributed_scene.hpp"
 #include "sphray/mpi/particle_file.hpp"
 #include "sphray/mpi/spatial_split.hpp"
+#include "sphray/render/camera.hpp"
 #include "sphray/render/image_file.hpp"
 #include "sphray/render/renderer.hpp"
 #include "sphray/render/scene.hpp"
@@ -157,11 +158,12 @@ class DistributedQueries final : public RayQueries {
 };
 
 // The scene's spheres this rank keeps, with their ids in the scene: its cell of a split by
-// planes, whose regions overlap least, cut across the camera's view: along its horizontal axis,
-// so that every row of the image crosses every region (docs/distributed.md, "Cut across the
-// view"). Throws std::bad_alloc.
-void take_share(const Scene& scene, MPI_Comm comm, sphray::SphereSoA& mine,
-                std::vector<std::uint32_t>& ids) {
+// planes, whose regions overlap least, cut across the camera's view (along its horizontal
+// axis, so that every row of the image crosses every region) where it halves the camera's rays,
+// not the spheres: of a coarse grid of camera rays, each cell's share enters its box first
+// (docs/distributed.md, "Cut across the view"). Throws std::bad_alloc.
+void take_share(const Scene& scene, const RenderOptions& options, MPI_Comm comm,
+                sphray::SphereSoA& mine, std::vector<std::uint32_t>& ids) {
   const CameraSpec& camera = scene.camera;
   const sphray::Vec3 across =
       sphray::normalize(sphray::cross(camera.vup, camera.lookfrom - camera.lookat));
@@ -169,7 +171,15 @@ void take_share(const Scene& scene, MPI_Comm comm, sphray::SphereSoA& mine,
   const sphray::Vec3 weights =
       usable ? sphray::Vec3{std::abs(across.x), std::abs(across.y), std::abs(across.z)}
              : sphray::Vec3{1, 1, 1};
-  ids = sphray::mpi::plane_share(scene.spheres.view(), rank_of(comm), size_of(comm), weights);
+  constexpr int kProbesAcross = 32;
+  const int down = std::max(1, kProbesAcross * options.height / options.width);
+  const Camera view(camera, kProbesAcross, down);
+  std::vector<sphray::Ray> probes;
+  for (int y = 0; y < down; ++y)
+    for (int x = 0; x < kProbesAcross; ++x)
+      probes.push_back(view.ray(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
+  ids =
+      sphray::mpi::plane_share(scene.spheres.view(), rank_of(comm), size_of(comm), weights, probes);
   mine.reserve(ids.size());
   for (std::uint32_t id : ids)
     mine.add(scene.spheres.center(id), scene.spheres.radius(id), scene.spheres.mask(id));
@@ -369,7 +379,7 @@ int run_render(const RenderArgs& args, Distribution distribution, MPI_Comm comm)
   std::vector<std::uint32_t> ids;
   mine = {};
   try {
-    take_share(*scene, comm, share, ids);
+    take_share(*scene, options, comm, share, ids);
   } catch (const std::bad_alloc&) {
     mine = {kExitIo, "out of memory taking this rank's share of " +
                          std::to_string(scene->spheres.size()) + " spheres"};

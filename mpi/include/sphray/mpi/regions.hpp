@@ -31,6 +31,8 @@ struct RegionBox {
 /// The box around the spheres that can be hit (finite centre, positive finite radius), padded
 /// by kRegionSlack of its largest coordinate.
 RegionBox region_box(SphereView spheres);
+/// The same for the spheres ids of spheres.
+RegionBox region_box(SphereView spheres, std::span<const std::uint32_t> ids);
 
 /// Where a ray's segment enters a region: the entry t, ties broken by the region's index.
 /// Keys order a ray's visits; the first key lies below every real one.

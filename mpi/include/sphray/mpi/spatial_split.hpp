@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "sphray/sphray.hpp"
@@ -34,11 +35,21 @@ std::vector<std::vector<std::uint32_t>> spatial_shares(SphereView spheres, int r
 /// weighted extent is cut; ties go to the lower axis). A renderer passes the absolute
 /// components of its camera's horizontal axis, so that the cuts run across the image and every
 /// row of the image crosses every region (docs/distributed.md, "Cut across the view").
+///
+/// probes: rays to balance rather than spheres, a coarse grid of a camera's rays, say. Each
+/// cut then lies where the probes that enter either side's region enter the two sides first in
+/// the proportion of their ranks (in a dense cloud, a ray mostly ends in the first region it
+/// enters), on a boundary of 1,024 slabs of the cell along its axis, each side keeping between
+/// a quarter and three quarters of the cell's spheres (for their memory). Costs one pass over
+/// the cell's spheres and, per bisection step, one test of each probe against two boxes. Where
+/// the probes cannot tell (none enters the cell, a few spheres, centres at one place along the
+/// axis), the cut by count.
 std::vector<std::vector<std::uint32_t>> plane_shares(SphereView spheres, int ranks,
-                                                     Vec3 weights = {1, 1, 1});
+                                                     Vec3 weights = {1, 1, 1},
+                                                     std::span<const Ray> probes = {});
 
 /// Rank `rank`'s share of plane_shares alone: only the cells on its side are split further.
 std::vector<std::uint32_t> plane_share(SphereView spheres, int rank, int ranks,
-                                       Vec3 weights = {1, 1, 1});
+                                       Vec3 weights = {1, 1, 1}, std::span<const Ray> probes = {});
 
 }  // namespace sphray::mpi
