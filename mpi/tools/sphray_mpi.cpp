@@ -157,6 +157,39 @@ class DistributedQueries final : public RayQueries {
   bool routed_;
 };
 
+// The tiles rank `rank` renders when routed: those whose centre ray enters its region first, so
+// that a rank traces its own camera rays in its own tree and sends on only the rays that leave
+// it; tiles whose centre ray meets no region (the sky) dealt one in ranks. With the cuts placed
+// by the camera's rays (take_share), a cloud's ranks get about equal numbers of tiles. Where
+// they do not (a region that wraps the others, as rtiow-final's ground does, comes first for
+// nearly every ray), one tile in ranks: the interleaved shares cost about the same however the
+// cost varies across the image, which one rank's region of the image would not.
+TileShare tiles_by_region(const Scene& scene, const RenderOptions& options,
+                          const DistributedScene& distributed, int rank, int ranks) {
+  const Camera view(scene.camera, options.width, options.height);
+  const std::size_t tiles = tile_count(options.width, options.height);
+  std::vector<std::uint32_t> mine;
+  std::vector<std::size_t> counts(static_cast<std::size_t>(ranks));
+  std::size_t sky = 0;
+  for (std::size_t t = 0; t < tiles; ++t) {
+    const TileRect rect = tile_rect(t, options.width, options.height);
+    const sphray::Ray centre =
+        view.ray(static_cast<float>(rect.x0) + 0.5f * static_cast<float>(rect.width),
+                 static_cast<float>(rect.y0) + 0.5f * static_cast<float>(rect.height));
+    const int first =
+        sphray::mpi::next_region(distributed.regions(), centre, centre.tmax, {}).region;
+    const auto owner =
+        first >= 0 ? static_cast<std::size_t>(first) : sky++ % static_cast<std::size_t>(ranks);
+    ++counts[owner];
+    if (owner == static_cast<std::size_t>(rank)) mine.push_back(static_cast<std::uint32_t>(t));
+  }
+  // Within a quarter of an equal share, each.
+  const double equal = static_cast<double>(tiles) / ranks;
+  for (std::size_t count : counts)
+    if (std::abs(static_cast<double>(count) - equal) > 0.25 * equal) return TileShare(rank, ranks);
+  return TileShare(rank, ranks, std::move(mine));
+}
+
 // The scene's spheres this rank keeps, with their ids in the scene: its cell of a split by
 // planes, whose regions overlap least, cut across the camera's view (along its horizontal
 // axis, so that every row of the image crosses every region) where it halves the camera's rays,
@@ -229,9 +262,12 @@ void print_summary(const RenderArgs& args, const RenderOptions& options, const R
       "wrote %s: %dx%d, %d spp, %s, %d ranks%s, %.3f s, %.0f rays/s (%llu camera + %llu bounce + "
       "%llu shadow rays); %zu spheres, at most %llu bytes and %.3f s in %s a rank",
       args.output.c_str(), options.width, options.height, stats.spp, args.mode.c_str(),
-      size_of(comm), routed ? " (routed)" : "", seconds, seconds > 0 ? total / seconds : 0.0,
-      all[0], all[1], all[2], scene.global_size(), largest, slowest[0],
-      routed ? "exchanges" : "reductions");
+      size_of(comm),
+      !routed                ? ""
+      : options.share.listed ? " (routed, tiles by region)"
+                             : " (routed)",
+      seconds, seconds > 0 ? total / seconds : 0.0, all[0], all[1], all[2], scene.global_size(),
+      largest, slowest[0], routed ? "exchanges" : "reductions");
   if (routed) {
     std::printf("; %.3f rays traced in the trees a ray, %.3f in the busiest rank's",
                 total > 0 ? static_cast<double>(all[3]) / total : 0.0,
@@ -398,7 +434,8 @@ int run_render(const RenderArgs& args, Distribution distribution, MPI_Comm comm)
   const bool routed = distribution == Distribution::routed;
   const DistributedQueries queries(*distributed, routed);
   RenderStats stats;
-  if (routed) options.share = {rank_of(comm), size_of(comm)};  // each rank its own tiles
+  if (routed)
+    options.share = tiles_by_region(*scene, options, *distributed, rank_of(comm), size_of(comm));
   Image image = render(*scene, queries, options, {}, &stats);
   if (routed) add_shares(image, comm);
   if (const int status = commit_image(output.get(), image, comm)) return status;

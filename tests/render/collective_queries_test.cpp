@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <vector>
 
@@ -104,6 +105,46 @@ TEST_P(CollectiveFrames, SharesNeedUnevenCalls) {
   const CountingQueries queries(scene, /*uneven=*/false);
   EXPECT_THROW(render(scene, queries, o), std::invalid_argument);
   EXPECT_EQ(queries.calls, 0u);
+}
+
+// Listed shares of unequal sizes and shapes (the first 40 tiles and every fifth after them to
+// one, the rest to the other) add up to the image too.
+TEST_P(CollectiveFrames, ListedSharesAddUpToTheImageOfOneProcess) {
+  const Scene scene = make_preset("rtiow-final");
+  RenderOptions o = options_for(GetParam());
+  const Image expected = render(scene, o);
+  const std::size_t tiles = tile_count(o.width, o.height);
+  std::vector<std::uint32_t> listed[2];
+  for (std::uint32_t t = 0; t < tiles; ++t)
+    listed[t < 40 || t % 5 == 0 ? 0 : 1].push_back(t);
+  Image sum{o.width, o.height, std::vector<std::uint8_t>(expected.rgb.size(), 0)};
+  const CountingQueries queries(scene, /*uneven=*/true);
+  for (int index = 0; index < 2; ++index) {
+    o.share = TileShare{index, 2, listed[index]};
+    const Image part = render(scene, queries, o);
+    for (std::size_t i = 0; i < sum.rgb.size(); ++i)
+      sum.rgb[i] = static_cast<std::uint8_t>(sum.rgb[i] + part.rgb[i]);
+  }
+  EXPECT_EQ(sum.rgb, expected.rgb);
+}
+
+// A listed tile past the image's, or a listing out of order (a tile twice), is refused before
+// any ray.
+TEST_P(CollectiveFrames, ListedTilesOutsideTheImageOrOutOfOrderAreRefused) {
+  const Scene scene = make_preset("rtiow-final");
+  RenderOptions o = options_for(GetParam());
+  const auto tiles = static_cast<std::uint32_t>(tile_count(o.width, o.height));
+  ASSERT_EQ(tiles, 13u * 10u);
+  for (const std::vector<std::uint32_t>& listed :
+       {std::vector<std::uint32_t>{0, tiles}, {3, 2}, {4, 4}}) {
+    o.share = TileShare{0, 2, listed};
+    const CountingQueries queries(scene, /*uneven=*/true);
+    EXPECT_THROW(render(scene, queries, o), std::invalid_argument);
+    EXPECT_EQ(queries.calls, 0u);
+  }
+  o.share = TileShare{0, 2, {0, tiles - 1}};
+  const CountingQueries queries(scene, /*uneven=*/true);
+  EXPECT_NO_THROW(render(scene, queries, o));
 }
 
 }  // namespace

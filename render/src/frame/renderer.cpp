@@ -143,17 +143,6 @@ class Shader {
   float depth_scale_;
 };
 
-struct TileRect {
-  int x0, y0, width, height;
-};
-
-TileRect tile_rect(std::size_t tile, int image_width, int image_height) {
-  int tiles_across = (image_width + kTileSize - 1) / kTileSize;
-  int x0 = static_cast<int>(tile % static_cast<std::size_t>(tiles_across)) * kTileSize;
-  int y0 = static_cast<int>(tile / static_cast<std::size_t>(tiles_across)) * kTileSize;
-  return {x0, y0, std::min(kTileSize, image_width - x0), std::min(kTileSize, image_height - y0)};
-}
-
 // Calls visit(i, x, y) for the pixels of rects in turn, each rect row by row, i from 0.
 template <class Visit>
 void for_each_pixel(std::span<const TileRect> rects, Visit&& visit) {
@@ -389,13 +378,35 @@ void check_options(const RenderOptions& o) {
   if (o.threads < 0 || o.threads > kMaxThreads) {
     throw std::invalid_argument("threads: expected 0 (all) to " + std::to_string(kMaxThreads));
   }
-  if (o.share.count < 1 || o.share.index < 0 || o.share.index >= o.share.count)
-    throw std::invalid_argument("tile share: expected 0 <= index < count");
+  o.share.check(tile_count(o.width, o.height));
 }
 
 }  // namespace
 
 constexpr std::array<std::string_view, 3> kAccelNames = {"auto", "bvh", "brute"};
+
+std::size_t tile_count(int width, int height) {
+  const auto side = [](int n) { return (static_cast<std::size_t>(n) + kTileSize - 1) / kTileSize; };
+  return side(width) * side(height);
+}
+
+TileRect tile_rect(std::size_t tile, int image_width, int image_height) {
+  const std::size_t across = (static_cast<std::size_t>(image_width) + kTileSize - 1) / kTileSize;
+  const int x0 = static_cast<int>(tile % across) * kTileSize;
+  const int y0 = static_cast<int>(tile / across) * kTileSize;
+  return {x0, y0, std::min(kTileSize, image_width - x0), std::min(kTileSize, image_height - y0)};
+}
+
+void TileShare::check(std::size_t tiles) const {
+  if (count < 1 || index < 0 || index >= count)
+    throw std::invalid_argument("tile share: expected 0 <= index < count");
+  if (!listed) return;
+  for (std::size_t k = 0; k < listed->size(); ++k) {
+    if ((*listed)[k] >= tiles || (k > 0 && (*listed)[k] <= (*listed)[k - 1]))
+      throw std::invalid_argument(
+          "tile share: expected listed tiles strictly ascending and within the image");
+  }
+}
 
 std::vector<std::string> accel_names() {
   return {kAccelNames.begin(), kAccelNames.end()};

@@ -35,15 +35,8 @@ struct Tile {
 };
 
 Tile tile_at(std::size_t index, int image_width, int image_height) {
-  const std::size_t across = (static_cast<std::size_t>(image_width) + kTileSize - 1) / kTileSize;
-  const int x0 = static_cast<int>(index % across) * kTileSize;
-  const int y0 = static_cast<int>(index / across) * kTileSize;
-  return {x0, y0, std::min(kTileSize, image_width - x0), std::min(kTileSize, image_height - y0)};
-}
-
-std::size_t tile_count(int width, int height) {
-  const auto side = [](int n) { return (static_cast<std::size_t>(n) + kTileSize - 1) / kTileSize; };
-  return side(width) * side(height);
+  const TileRect rect = tile_rect(index, image_width, image_height);
+  return {rect.x0, rect.y0, rect.width, rect.height};
 }
 
 void check(const RenderOptions& o) {
@@ -57,8 +50,7 @@ void check(const RenderOptions& o) {
   if (o.threads < 0 || o.threads > 1024) {
     throw std::invalid_argument("threads: expected 0 (all) to 1024");
   }
-  if (o.share.count < 1 || o.share.index < 0 || o.share.index >= o.share.count)
-    throw std::invalid_argument("tile share: expected 0 <= index < count");
+  o.share.check(tile_count(o.width, o.height));
   if (o.max_depth < 1 || o.max_depth > kMaxDepth) {
     throw std::invalid_argument("max depth: expected 1 to " + std::to_string(kMaxDepth));
   }

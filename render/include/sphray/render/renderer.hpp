@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "sphray/render/ray_queries.hpp"
@@ -31,19 +32,42 @@ enum class Accel { automatic, bvh, brute_force };
 std::vector<std::string> accel_names();
 std::optional<Accel> parse_accel(std::string_view name);
 
+/// An image is traced in tiles of kTileSize x kTileSize pixels (the last column and row cut
+/// short), numbered row by row from the top left.
+struct TileRect {
+  int x0, y0, width, height;
+};
+std::size_t tile_count(int width, int height);
+/// Tile `tile` (below tile_count) of an image of that size.
+TileRect tile_rect(std::size_t tile, int image_width, int image_height);
+
 /// A share of an image's tiles: those t with t % count == index, interleaved so that the
-/// shares of an image whose cost varies across it cost about the same. The whole image by
-/// default.
+/// shares of an image whose cost varies across it cost about the same; or, when `listed` holds
+/// them, those tiles (strictly ascending): shares of other shapes, such as sphray-mpi's tiles
+/// whose rays meet a rank's own spheres first. index and count still name the process and the
+/// processes whose shares add up to the image. The whole image by default.
 struct TileShare {
   int index = 0, count = 1;
+  std::optional<std::vector<std::uint32_t>> listed;
+
+  TileShare() = default;
+  TileShare(int index_, int count_) : index(index_), count(count_) {}
+  TileShare(int index_, int count_, std::vector<std::uint32_t> tiles)
+      : index(index_), count(count_), listed(std::move(tiles)) {}
+
   /// How many of tiles (0 to tiles - 1) are in the share, and the k-th of them.
   std::size_t size(std::size_t tiles) const {
+    if (listed) return listed->size();
     const auto i = static_cast<std::size_t>(index), n = static_cast<std::size_t>(count);
     return tiles > i ? (tiles - i - 1) / n + 1 : 0;
   }
   std::size_t tile(std::size_t k) const {
+    if (listed) return (*listed)[k];
     return static_cast<std::size_t>(index) + k * static_cast<std::size_t>(count);
   }
+  /// Throws std::invalid_argument unless 0 <= index < count and the listed tiles, if any, are
+  /// strictly ascending and below tiles.
+  void check(std::size_t tiles) const;
 };
 
 struct RenderOptions {
