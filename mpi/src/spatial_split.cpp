@@ -75,9 +75,10 @@ std::optional<std::size_t> cut_by_probes(SphereView spheres, const float* along,
   const std::size_t n = end - begin;
   if (!(lo < hi) || n < 8) return std::nullopt;
   const float width = (hi - lo) / static_cast<float>(kCutSlabs);
+  if (!(width > 0) || !std::isfinite(width)) return std::nullopt;  // too narrow or too wide
   const auto slab_of = [&](std::uint32_t id) {
-    const float at = (along[id] - lo) / width;  // in [0, kCutSlabs], finite centres only
-    return std::min(kCutSlabs - 1, static_cast<std::size_t>(std::max(at, 0.0f)));
+    const float at = (along[id] - lo) / width;  // in [0, kCutSlabs]: finite centres only
+    return at > 0 ? std::min(kCutSlabs - 1, static_cast<std::size_t>(at)) : std::size_t{0};
   };
   std::vector<Slab> slabs(kCutSlabs);
   for (std::size_t i = begin; i < end; ++i) {

@@ -164,8 +164,8 @@ TEST(MpiSpatialSplit, ProbesBalanceTheRaysNotTheSpheres) {
   EXPECT_EQ(by_rays[1], sphray::mpi::plane_share(spheres.view(), 1, 2, {1, 1, 1}, probes));
 }
 
-// Probes that cannot place a cut leave the cut by count: rays that enter neither side, and
-// centres that do not spread along the axis.
+// Probes that cannot place a cut leave the cut by count: rays that enter neither side, centres
+// that do not spread along the axis, slabs too wide or too narrow for a float.
 TEST(MpiSpatialSplit, ProbesThatTellNothingLeaveTheCutByCount) {
   const sphray::SphereSoA spheres = tall_box(4000, 8);
   const std::vector<sphray::Ray> away(16, sphray::Ray{{0, -5, 0}, {0, -1, 0}});
@@ -178,6 +178,16 @@ TEST(MpiSpatialSplit, ProbesThatTellNothingLeaveTheCutByCount) {
   const auto shares = sphray::mpi::plane_shares(same_place.view(), 2, {1, 1, 1}, through);
   EXPECT_EQ(shares, sphray::mpi::plane_shares(same_place.view(), 2));
   EXPECT_EQ(shares[0].size(), 50u);
+  // Centres so far apart that a slab's width overflows, or so near that it underflows.
+  for (const float step : {6.5e36f, 1e-45f}) {
+    sphray::SphereSoA extreme;
+    for (int i = -50; i < 50; ++i)
+      extreme.add({static_cast<float>(i) * step, 0, 0}, 1.0f);
+    const std::vector<sphray::Ray> across(16, sphray::Ray{{0, -10, 0}, {0, 1, 0}});
+    EXPECT_EQ(sphray::mpi::plane_shares(extreme.view(), 2, {1, 1, 1}, across),
+              sphray::mpi::plane_shares(extreme.view(), 2))
+        << step;
+  }
 }
 
 }  // namespace
