@@ -616,8 +616,8 @@ int run(int argc, char** argv, MPI_Comm comm) {
       ->add_option("--distribution", distribution_name,
                    "replicated: every rank holds the whole scene and renders a share of the "
                    "tiles; split: the spheres are split between the ranks, which answer every "
-                   "ray together; routed: split, every rank renders a share of the tiles and "
-                   "sends each ray only to the ranks whose region it crosses (not path mode); "
+                   "ray together; routed: split, every rank renders the tiles its region meets "
+                   "first and sends each ray only to the ranks whose region it crosses; "
                    "auto: replicated when the scene fits every rank, split otherwise")
       ->check(CLI::IsMember({"auto", "replicated", "split", "routed"}))
       ->capture_default_str();
